@@ -1,0 +1,24 @@
+// The `omnidso` command line: dispatches to the subcommands of omnidso::cli.
+#include <CLI/CLI.hpp>
+#include <iostream>
+#include <omnidso/cli/commands.hpp>
+#include <omnidso/core/error.hpp>
+
+int main(int argc, char** argv) {
+  CLI::App app{"omnidso: direct sparse odometry and photometric bundle adjustment for "
+               "omnidirectional cameras"};
+  app.require_subcommand(1);
+  omnidso::cli::registerCameraCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const omnidso::Error& e) {
+    std::cerr << "omnidso: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "omnidso: error: " << e.what() << "\n";
+    return 3;
+  }
+  return 0;
+}
