@@ -1,0 +1,168 @@
+#include <omnidso/backend/marginalization_prior.hpp>
+#include <omnidso/backend/marginalizer.hpp>
+
+#include <ceres/crs_matrix.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <unordered_set>
+
+namespace omnidso {
+namespace {
+
+Eigen::MatrixXd toDense(const ceres::CRSMatrix& crs) {
+  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int row = 0; row < crs.num_rows; ++row)
+    for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) dense(row, crs.cols[k]) = crs.values[k];
+  return dense;
+}
+
+// Pseudo-inverse of a symmetric positive semi-definite matrix.
+Eigen::MatrixXd pseudoInverse(const Eigen::MatrixXd& A, double relative_threshold) {
+  if (A.size() == 0) return A;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A);
+  const Eigen::VectorXd& lambda = eig.eigenvalues();
+  const double cutoff = relative_threshold * std::max(lambda.maxCoeff(), 0.0);
+  Eigen::VectorXd inv = Eigen::VectorXd::Zero(lambda.size());
+  for (int i = 0; i < lambda.size(); ++i)
+    if (lambda[i] > cutoff && lambda[i] > 0) inv[i] = 1.0 / lambda[i];
+  return eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+}  // namespace
+
+const Eigen::VectorXd* Marginalizer::linearizationPoint(const double* block) const {
+  const auto it = linearization_points_.find(block);
+  return it == linearization_points_.end() ? nullptr : &it->second;
+}
+
+ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
+                                                 const std::vector<double*>& blocks,
+                                                 MarginalizationStats* stats) {
+  MarginalizationStats local_stats;
+  // 1. Residual blocks connected to M, and the Markov blanket K.
+  std::unordered_set<double*> removed(blocks.begin(), blocks.end());
+  std::vector<ceres::ResidualBlockId> residual_blocks;
+  std::unordered_set<ceres::ResidualBlockId> seen_residuals;
+  std::vector<double*> kept;
+  std::unordered_set<double*> seen_kept;
+  for (double* block : blocks) {
+    std::vector<ceres::ResidualBlockId> connected;
+    problem.GetResidualBlocksForParameterBlock(block, &connected);
+    for (ceres::ResidualBlockId id : connected) {
+      if (!seen_residuals.insert(id).second) continue;
+      residual_blocks.push_back(id);
+      std::vector<double*> params;
+      problem.GetParameterBlocksForResidualBlock(id, &params);
+      for (double* p : params) {
+        if (removed.count(p) || problem.IsParameterBlockConstant(p)) continue;
+        if (seen_kept.insert(p).second) kept.push_back(p);
+      }
+    }
+  }
+  // Deterministic column order of K: the order in which blocks were met above.
+  std::vector<double*> ordered;
+  for (double* b : blocks)
+    if (!problem.IsParameterBlockConstant(b)) ordered.push_back(b);
+  const int num_removed_blocks = static_cast<int>(ordered.size());
+  ordered.insert(ordered.end(), kept.begin(), kept.end());
+
+  // Tangent layout and first-estimate points.
+  std::vector<int> offsets;
+  std::vector<Eigen::VectorXd> current(ordered.size()), first_estimate(ordered.size());
+  int dim = 0, dim_removed = 0;
+  for (size_t i = 0; i < ordered.size(); ++i) {
+    offsets.push_back(dim);
+    dim += problem.ParameterBlockTangentSize(ordered[i]);
+    if (static_cast<int>(i) < num_removed_blocks) dim_removed = dim;
+    const int n = problem.ParameterBlockSize(ordered[i]);
+    current[i] = Eigen::Map<const Eigen::VectorXd>(ordered[i], n);
+    const Eigen::VectorXd* lin = linearizationPoint(ordered[i]);
+    first_estimate[i] = lin ? *lin : current[i];
+  }
+
+  // 2. Linearise: r at the current estimate, J at the first-estimate point.
+  ceres::Problem::EvaluateOptions eval;
+  eval.parameter_blocks = ordered;
+  eval.residual_blocks = residual_blocks;
+  std::vector<double> r_current;
+  ceres::CRSMatrix jacobian_crs;
+  problem.Evaluate(eval, nullptr, &r_current, nullptr, &jacobian_crs);
+  const Eigen::MatrixXd J_current = toDense(jacobian_crs);
+
+  for (size_t i = 0; i < ordered.size(); ++i)
+    Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = first_estimate[i];
+  const bool fej_ok = problem.Evaluate(eval, nullptr, nullptr, nullptr, &jacobian_crs);
+  for (size_t i = 0; i < ordered.size(); ++i)
+    Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = current[i];
+  const Eigen::MatrixXd J = fej_ok ? toDense(jacobian_crs) : J_current;
+  local_stats.used_first_estimate_jacobians = fej_ok;
+
+  std::vector<PriorBlock> prior_blocks(ordered.size());
+  Eigen::VectorXd delta_current(dim);
+  for (size_t i = 0; i < ordered.size(); ++i) {
+    PriorBlock& pb = prior_blocks[i];
+    pb.ambient_size = static_cast<int>(current[i].size());
+    pb.manifold = problem.GetManifold(ordered[i]);
+    pb.linearization_point = first_estimate[i];
+    delta_current.segment(offsets[i], pb.tangentSize()) =
+        MarginalizationPrior::tangentDelta(pb, ordered[i]);
+  }
+  const Eigen::VectorXd r0 =
+      Eigen::Map<const Eigen::VectorXd>(r_current.data(), r_current.size()) - J * delta_current;
+
+  // 3. Schur complement onto K.
+  const Eigen::MatrixXd H = J.transpose() * J;
+  const Eigen::VectorXd g = J.transpose() * r0;
+  const int m = dim_removed, k = dim - dim_removed;
+  const Eigen::MatrixXd H_mm_inv = pseudoInverse(H.topLeftCorner(m, m), options_.eigenvalue_threshold);
+  const Eigen::MatrixXd H_km = H.bottomLeftCorner(k, m);
+  Eigen::MatrixXd H_star = H.bottomRightCorner(k, k) - H_km * H_mm_inv * H_km.transpose();
+  H_star = 0.5 * (H_star + H_star.transpose());
+  const Eigen::VectorXd g_star = g.tail(k) - H_km * H_mm_inv * g.head(m);
+
+  // 5 (first half). The problem no longer holds R or M.
+  for (ceres::ResidualBlockId id : residual_blocks) problem.RemoveResidualBlock(id);
+  for (double* b : blocks) {
+    problem.RemoveParameterBlock(b);
+    linearization_points_.erase(b);
+  }
+
+  local_stats.num_residual_blocks = static_cast<int>(residual_blocks.size());
+  local_stats.num_marginalized_blocks = static_cast<int>(blocks.size());
+  ceres::ResidualBlockId prior_id = nullptr;
+  if (k > 0) {
+    // 4. Square-root information of H*.
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H_star);
+    const Eigen::VectorXd& lambda = eig.eigenvalues();
+    const double cutoff = options_.eigenvalue_threshold * std::max(lambda.maxCoeff(), 0.0);
+    std::vector<int> kept_directions;
+    for (int i = 0; i < lambda.size(); ++i)
+      if (lambda[i] > cutoff && lambda[i] > 0) kept_directions.push_back(i);
+    const int rank = static_cast<int>(kept_directions.size());
+    local_stats.prior_rank = rank;
+    if (rank > 0) {
+      Eigen::MatrixXd S(rank, k);
+      Eigen::VectorXd s(rank);
+      for (int row = 0; row < rank; ++row) {
+        const int i = kept_directions[row];
+        const Eigen::VectorXd v = eig.eigenvectors().col(i);
+        S.row(row) = std::sqrt(lambda[i]) * v.transpose();
+        s[row] = v.dot(g_star) / std::sqrt(lambda[i]);
+      }
+      std::vector<PriorBlock> kept_prior_blocks(prior_blocks.begin() + num_removed_blocks,
+                                                prior_blocks.end());
+      auto* prior = new MarginalizationPrior(std::move(kept_prior_blocks), std::move(S),
+                                             std::move(s));
+      prior_id = problem.AddResidualBlock(prior, nullptr, kept);
+      local_stats.num_prior_blocks = static_cast<int>(kept.size());
+      // 5 (second half). First-estimate points for the blocks the prior now touches.
+      for (size_t i = num_removed_blocks; i < ordered.size(); ++i)
+        linearization_points_.emplace(ordered[i], first_estimate[i]);
+    }
+  }
+  if (stats) *stats = local_stats;
+  return prior_id;
+}
+
+}  // namespace omnidso

@@ -1,0 +1,268 @@
+// Marginalisation (backend/marginalizer.hpp) against the full problem and against
+// ceres::Covariance. Linear-Gaussian problems make marginalisation exact, so the tolerances
+// are set by the solver's convergence (1e-10 tolerances) and double rounding, not by the
+// approximation: 1e-6 leaves ample margin.
+#include <ceres/ceres.h>
+#include <ceres/covariance.h>
+#include <ceres/gradient_checker.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <omnidso/backend/marginalization_prior.hpp>
+#include <omnidso/backend/marginalizer.hpp>
+#include <random>
+
+namespace omnidso {
+namespace {
+
+// r = A·[x_0; x_1; …] − b over the given blocks (all Euclidean).
+class LinearCost : public ceres::CostFunction {
+ public:
+  LinearCost(Eigen::MatrixXd A, Eigen::VectorXd b, std::vector<int> sizes)
+      : A_(std::move(A)), b_(std::move(b)) {
+    for (int s : sizes) mutable_parameter_block_sizes()->push_back(s);
+    set_num_residuals(static_cast<int>(A_.rows()));
+  }
+  bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
+    Eigen::Map<Eigen::VectorXd> r(residuals, num_residuals());
+    r = -b_;
+    int col = 0;
+    for (size_t k = 0; k < parameter_block_sizes().size(); ++k) {
+      const int n = parameter_block_sizes()[k];
+      r += A_.middleCols(col, n) * Eigen::Map<const Eigen::VectorXd>(x[k], n);
+      if (jacobians && jacobians[k]) {
+        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            jacobians[k], num_residuals(), n) = A_.middleCols(col, n);
+      }
+      col += n;
+    }
+    return true;
+  }
+
+ private:
+  Eigen::MatrixXd A_;
+  Eigen::VectorXd b_;
+};
+
+struct ChainProblem {
+  // Blocks: x0 (3), x1 (2), x2 (2), x3 (1); residuals on {x0}, {x0,x1}, {x1,x2}, {x0,x2},
+  // {x2,x3}, {x3}: a small graph where x0 has a Markov blanket {x1, x2}.
+  std::vector<Eigen::VectorXd> values;
+  std::vector<std::tuple<std::vector<int>, Eigen::MatrixXd, Eigen::VectorXd>> factors;
+
+  explicit ChainProblem(unsigned seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> n(0.0, 1.0);
+    const std::vector<int> sizes = {3, 2, 2, 1};
+    for (int s : sizes) {
+      Eigen::VectorXd v(s);
+      for (int i = 0; i < s; ++i) v[i] = n(rng);
+      values.push_back(v);
+    }
+    const std::vector<std::vector<int>> graph = {{0}, {0, 1}, {1, 2}, {0, 2}, {2, 3}, {3}};
+    for (const auto& blocks : graph) {
+      int cols = 0;
+      for (int b : blocks) cols += sizes[b];
+      const int rows = cols + 1;
+      Eigen::MatrixXd A(rows, cols);
+      Eigen::VectorXd b(rows);
+      for (int i = 0; i < A.size(); ++i) A.data()[i] = n(rng);
+      for (int i = 0; i < rows; ++i) b[i] = n(rng);
+      factors.emplace_back(blocks, A, b);
+    }
+  }
+
+  void build(ceres::Problem& problem, std::vector<Eigen::VectorXd>& x) const {
+    x = values;
+    for (auto& v : x) v.setZero();  // start away from the optimum
+    for (const auto& [blocks, A, b] : factors) {
+      std::vector<int> sizes;
+      std::vector<double*> ptrs;
+      for (int k : blocks) {
+        sizes.push_back(static_cast<int>(x[k].size()));
+        ptrs.push_back(x[k].data());
+      }
+      problem.AddResidualBlock(new LinearCost(A, b, sizes), nullptr, ptrs);
+    }
+  }
+};
+
+void solveTightly(ceres::Problem& problem) {
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.function_tolerance = 1e-16;
+  options.gradient_tolerance = 1e-16;
+  options.parameter_tolerance = 1e-16;
+  options.max_num_iterations = 50;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  ASSERT_TRUE(summary.IsSolutionUsable()) << summary.BriefReport();
+}
+
+TEST(Marginalization, LinearGaussianMarginalizeThenOptimizeEqualsFullOptimum) {
+  const ChainProblem chain(7);
+  ceres::Problem full;
+  std::vector<Eigen::VectorXd> x_full;
+  chain.build(full, x_full);
+  solveTightly(full);
+
+  ceres::Problem reduced;
+  std::vector<Eigen::VectorXd> x;
+  chain.build(reduced, x);
+  Marginalizer marginalizer;
+  MarginalizationStats stats;
+  ASSERT_NE(marginalizer.marginalize(reduced, {x[0].data()}, &stats), nullptr);
+  EXPECT_EQ(stats.num_residual_blocks, 3);  // {x0}, {x0,x1}, {x0,x2}
+  EXPECT_EQ(stats.num_prior_blocks, 2);     // x1, x2
+  EXPECT_EQ(stats.prior_rank, 4);
+  EXPECT_EQ(reduced.NumParameterBlocks(), 3);
+  solveTightly(reduced);
+  for (int k = 1; k < 4; ++k)
+    EXPECT_LT((x[k] - x_full[k]).norm(), 1e-6) << "block " << k;
+}
+
+TEST(Marginalization, SuccessiveMarginalizationsAccumulatePriors) {
+  // Marginalise x0, then x1 (which the first prior touches): the second prior must fold
+  // the first one in, and x2, x3 must still reach the full optimum.
+  const ChainProblem chain(11);
+  ceres::Problem full;
+  std::vector<Eigen::VectorXd> x_full;
+  chain.build(full, x_full);
+  solveTightly(full);
+
+  ceres::Problem reduced;
+  std::vector<Eigen::VectorXd> x;
+  chain.build(reduced, x);
+  Marginalizer marginalizer;
+  marginalizer.marginalize(reduced, {x[0].data()});
+  solveTightly(reduced);  // moves x1, x2 away from their linearisation points
+  ASSERT_NE(marginalizer.linearizationPoint(x[1].data()), nullptr);
+  marginalizer.marginalize(reduced, {x[1].data()});
+  EXPECT_EQ(reduced.NumResidualBlocks(), 3);  // {x2,x3}, {x3}, prior on x2
+  solveTightly(reduced);
+  EXPECT_LT((x[2] - x_full[2]).norm(), 1e-6);
+  EXPECT_LT((x[3] - x_full[3]).norm(), 1e-6);
+}
+
+// Information over the kept blocks of everything that remains after marginalisation
+// (prior + untouched residuals) = inverse of the marginal covariance of the full problem.
+TEST(Marginalization, PriorInformationEqualsInverseMarginalCovariance) {
+  const ChainProblem chain(3);
+  ceres::Problem full;
+  std::vector<Eigen::VectorXd> x_full;
+  chain.build(full, x_full);
+  solveTightly(full);
+  ceres::Covariance::Options cov_options;
+  cov_options.algorithm_type = ceres::DENSE_SVD;
+  ceres::Covariance covariance(cov_options);
+  const std::vector<const double*> kept = {x_full[1].data(), x_full[2].data(), x_full[3].data()};
+  ASSERT_TRUE(covariance.Compute(kept, &full));
+  Eigen::MatrixXd cov(5, 5);
+  ASSERT_TRUE(covariance.GetCovarianceMatrix(kept, cov.data()));  // symmetric: order irrelevant
+
+  ceres::Problem reduced;
+  std::vector<Eigen::VectorXd> x;
+  chain.build(reduced, x);
+  Marginalizer marginalizer;
+  marginalizer.marginalize(reduced, {x[0].data()});
+  ceres::Problem::EvaluateOptions eval;
+  eval.parameter_blocks = {x[1].data(), x[2].data(), x[3].data()};
+  ceres::CRSMatrix crs;
+  reduced.Evaluate(eval, nullptr, nullptr, nullptr, &crs);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int r = 0; r < crs.num_rows; ++r)
+    for (int i = crs.rows[r]; i < crs.rows[r + 1]; ++i) J(r, crs.cols[i]) = crs.values[i];
+  const Eigen::MatrixXd information = J.transpose() * J;
+  const Eigen::MatrixXd expected = cov.inverse();
+  EXPECT_LT((information - expected).norm() / expected.norm(), 1e-6);
+}
+
+// A rotation block on a manifold: attitude from direction observations, marginalised at
+// the optimum. The prior's tangent information must equal the inverse tangent covariance.
+struct DirectionCost {
+  DirectionCost(Eigen::Vector3d v, Eigen::Vector3d w) : v_(v), w_(w) {}
+  template <typename T>
+  bool operator()(const T* q_raw, const T* bias, T* r) const {
+    Eigen::Map<const Eigen::Quaternion<T>> q(q_raw);
+    const Eigen::Matrix<T, 3, 1> pred = q * v_.cast<T>();
+    for (int i = 0; i < 3; ++i) r[i] = pred[i] + bias[i] - T(w_[i]);
+    return true;
+  }
+  Eigen::Vector3d v_, w_;
+};
+
+TEST(Marginalization, ManifoldBlockPriorMatchesCovarianceAndKeepsTangentJacobian) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Eigen::Quaterniond q_true = Eigen::Quaterniond(Eigen::AngleAxisd(0.7,
+      Eigen::Vector3d(1, 2, 3).normalized()));
+  auto build = [&](ceres::Problem& problem, Eigen::Quaterniond& q, Eigen::Vector3d& bias) {
+    std::mt19937 local(9);
+    std::normal_distribution<double> m(0.0, 1.0);
+    q = Eigen::Quaterniond::Identity();
+    bias.setZero();
+    for (int i = 0; i < 6; ++i) {
+      const Eigen::Vector3d v(m(local), m(local), m(local));
+      const Eigen::Vector3d w = q_true * v + 0.01 * Eigen::Vector3d(m(local), m(local), m(local));
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<DirectionCost, 3, 4, 3>(new DirectionCost(v, w)),
+          nullptr, q.coeffs().data(), bias.data());
+    }
+    problem.AddResidualBlock(  // weak prior on the bias
+        new ceres::AutoDiffCostFunction<DirectionCost, 3, 4, 3>(
+            new DirectionCost(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero())),
+        nullptr, q.coeffs().data(), bias.data());
+    problem.SetManifold(q.coeffs().data(), new ceres::EigenQuaternionManifold);
+  };
+  (void)n;
+  ceres::Problem full;
+  Eigen::Quaterniond q_full;
+  Eigen::Vector3d bias_full;
+  build(full, q_full, bias_full);
+  solveTightly(full);
+  ceres::Covariance::Options cov_options;
+  cov_options.algorithm_type = ceres::DENSE_SVD;
+  ceres::Covariance covariance(cov_options);
+  const double* q_ptr = q_full.coeffs().data();
+  ASSERT_TRUE(covariance.Compute({q_ptr}, &full));
+  Eigen::Matrix3d cov;
+  ASSERT_TRUE(covariance.GetCovarianceMatrixInTangentSpace({q_ptr}, cov.data()));
+
+  ceres::Problem reduced;
+  Eigen::Quaterniond q;
+  Eigen::Vector3d bias;
+  build(reduced, q, bias);
+  solveTightly(reduced);
+  Marginalizer marginalizer;
+  const ceres::ResidualBlockId prior_id = marginalizer.marginalize(reduced, {bias.data()});
+  ASSERT_NE(prior_id, nullptr);
+  const auto* prior =
+      dynamic_cast<const MarginalizationPrior*>(reduced.GetCostFunctionForResidualBlock(prior_id));
+  ASSERT_NE(prior, nullptr);
+  const Eigen::Matrix3d expected = cov.inverse();
+  EXPECT_LT((prior->information() - expected).norm() / expected.norm(), 1e-6);
+
+  // At the linearisation point the ambient Jacobian passes Ceres's gradient check.
+  const ceres::Manifold* manifold = reduced.GetManifold(q.coeffs().data());
+  ceres::NumericDiffOptions numeric;
+  const std::vector<const ceres::Manifold*> manifolds = {manifold};
+  ceres::GradientChecker checker(prior, &manifolds, numeric);
+  ceres::GradientChecker::ProbeResults results;
+  const double* params[] = {q.coeffs().data()};
+  EXPECT_TRUE(checker.Probe(params, 1e-7, &results)) << results.error_log;
+
+  // Away from it, the tangent Jacobian stays S (first-estimate Jacobians).
+  q = q * Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()));
+  ceres::Problem::EvaluateOptions eval;
+  eval.residual_blocks = {prior_id};
+  eval.parameter_blocks = {q.coeffs().data()};
+  ceres::CRSMatrix crs;
+  reduced.Evaluate(eval, nullptr, nullptr, nullptr, &crs);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int r = 0; r < crs.num_rows; ++r)
+    for (int i = crs.rows[r]; i < crs.rows[r + 1]; ++i) J(r, crs.cols[i]) = crs.values[i];
+  EXPECT_LT((J - prior->sqrtInformation()).norm(), 1e-12 * prior->sqrtInformation().norm());
+}
+
+}  // namespace
+}  // namespace omnidso
