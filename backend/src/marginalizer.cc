@@ -4,17 +4,24 @@
 #include <ceres/crs_matrix.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Sparse>
 #include <algorithm>
 #include <unordered_set>
 
 namespace omnidso {
 namespace {
 
-Eigen::MatrixXd toDense(const ceres::CRSMatrix& crs) {
-  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+using SparseRowMajor = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+SparseRowMajor toSparse(const ceres::CRSMatrix& crs) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(crs.values.size());
   for (int row = 0; row < crs.num_rows; ++row)
-    for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) dense(row, crs.cols[k]) = crs.values[k];
-  return dense;
+    for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k)
+      triplets.emplace_back(row, crs.cols[k], crs.values[k]);
+  SparseRowMajor J(crs.num_rows, crs.num_cols);
+  J.setFromTriplets(triplets.begin(), triplets.end());
+  return J;
 }
 
 // Pseudo-inverse of a symmetric positive semi-definite matrix.
@@ -27,6 +34,41 @@ Eigen::MatrixXd pseudoInverse(const Eigen::MatrixXd& A, double relative_threshol
   for (int i = 0; i < lambda.size(); ++i)
     if (lambda[i] > cutoff && lambda[i] > 0) inv[i] = 1.0 / lambda[i];
   return eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+int findRoot(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+// H_MM⁺ exploiting its block structure: marginalising many points at once gives a
+// block-diagonal H_MM (points share no residual), so each coupled group of coordinates is
+// pseudo-inverted on its own instead of one dense m×m matrix.
+Eigen::SparseMatrix<double> blockPseudoInverse(const Eigen::SparseMatrix<double>& H_mm,
+                                               double relative_threshold) {
+  const int m = static_cast<int>(H_mm.rows());
+  std::vector<int> parent(m);
+  for (int i = 0; i < m; ++i) parent[i] = i;
+  for (int col = 0; col < H_mm.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(H_mm, col); it; ++it)
+      parent[findRoot(parent, static_cast<int>(it.row()))] = findRoot(parent, col);
+  std::vector<std::vector<int>> groups(m);
+  for (int i = 0; i < m; ++i) groups[findRoot(parent, i)].push_back(i);
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (const std::vector<int>& group : groups) {
+    if (group.empty()) continue;
+    const int n = static_cast<int>(group.size());
+    Eigen::MatrixXd block(n, n);
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) block(a, b) = H_mm.coeff(group[a], group[b]);
+    const Eigen::MatrixXd inv = pseudoInverse(block, relative_threshold);
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b)
+        if (inv(a, b) != 0.0) triplets.emplace_back(group[a], group[b], inv(a, b));
+  }
+  Eigen::SparseMatrix<double> out(m, m);
+  out.setFromTriplets(triplets.begin(), triplets.end());
+  return out;
 }
 
 }  // namespace
@@ -88,14 +130,14 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
   std::vector<double> r_current;
   ceres::CRSMatrix jacobian_crs;
   problem.Evaluate(eval, nullptr, &r_current, nullptr, &jacobian_crs);
-  const Eigen::MatrixXd J_current = toDense(jacobian_crs);
+  const SparseRowMajor J_current = toSparse(jacobian_crs);
 
   for (size_t i = 0; i < ordered.size(); ++i)
     Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = first_estimate[i];
   const bool fej_ok = problem.Evaluate(eval, nullptr, nullptr, nullptr, &jacobian_crs);
   for (size_t i = 0; i < ordered.size(); ++i)
     Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = current[i];
-  const Eigen::MatrixXd J = fej_ok ? toDense(jacobian_crs) : J_current;
+  const SparseRowMajor J = fej_ok ? toSparse(jacobian_crs) : J_current;
   local_stats.used_first_estimate_jacobians = fej_ok;
 
   std::vector<PriorBlock> prior_blocks(ordered.size());
@@ -112,14 +154,19 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
       Eigen::Map<const Eigen::VectorXd>(r_current.data(), r_current.size()) - J * delta_current;
 
   // 3. Schur complement onto K.
-  const Eigen::MatrixXd H = J.transpose() * J;
+  // J is sparse (each residual touches few blocks); M can be hundreds of points while K
+  // is a few keyframes, so only the K×K and K×M parts are made dense.
+  const Eigen::SparseMatrix<double> H = Eigen::SparseMatrix<double>(J.transpose()) * J;
   const Eigen::VectorXd g = J.transpose() * r0;
   const int m = dim_removed, k = dim - dim_removed;
-  const Eigen::MatrixXd H_mm_inv = pseudoInverse(H.topLeftCorner(m, m), options_.eigenvalue_threshold);
-  const Eigen::MatrixXd H_km = H.bottomLeftCorner(k, m);
-  Eigen::MatrixXd H_star = H.bottomRightCorner(k, k) - H_km * H_mm_inv * H_km.transpose();
+  const Eigen::SparseMatrix<double> H_mm_inv =
+      blockPseudoInverse(H.topLeftCorner(m, m), options_.eigenvalue_threshold);
+  const Eigen::MatrixXd H_km = Eigen::MatrixXd(H.bottomLeftCorner(k, m));
+  const Eigen::MatrixXd H_km_Hmm_inv = H_km * H_mm_inv;
+  Eigen::MatrixXd H_star =
+      Eigen::MatrixXd(H.bottomRightCorner(k, k)) - H_km_Hmm_inv * H_km.transpose();
   H_star = 0.5 * (H_star + H_star.transpose());
-  const Eigen::VectorXd g_star = g.tail(k) - H_km * H_mm_inv * g.head(m);
+  const Eigen::VectorXd g_star = g.tail(k) - H_km_Hmm_inv * g.head(m);
 
   // 5 (first half). The problem no longer holds R or M.
   for (ceres::ResidualBlockId id : residual_blocks) problem.RemoveResidualBlock(id);

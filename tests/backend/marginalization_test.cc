@@ -144,6 +144,58 @@ TEST(Marginalization, SuccessiveMarginalizationsAccumulatePriors) {
   EXPECT_LT((x[3] - x_full[3]).norm(), 1e-6);
 }
 
+TEST(Marginalization, ManyPointBlocksAtOnceMatchFullOptimum) {
+  // Two "frames" (3-vectors) and 40 scalar "points", each point observed from both frames
+  // (as a keyframe's points are): H_MM is diagonal and eliminated group by group. One point
+  // has no information (its Jacobian column is zero) and must simply vanish.
+  std::mt19937 rng(21);
+  std::normal_distribution<double> n(0.0, 1.0);
+  struct Factor { int point; Eigen::MatrixXd A; Eigen::VectorXd b; };
+  std::vector<Factor> factors;
+  for (int p = 0; p < 40; ++p) {
+    Eigen::MatrixXd A(4, 7);
+    for (int i = 0; i < A.size(); ++i) A.data()[i] = n(rng);
+    if (p == 17) A.col(6).setZero();
+    Eigen::VectorXd b(4);
+    for (int i = 0; i < 4; ++i) b[i] = n(rng);
+    factors.push_back({p, A, b});
+  }
+  auto build = [&](ceres::Problem& problem, Eigen::Vector3d& f0, Eigen::Vector3d& f1,
+                   std::vector<double>& points) {
+    f0.setZero();
+    f1.setZero();
+    points.assign(40, 0.0);
+    for (const Factor& f : factors)
+      problem.AddResidualBlock(new LinearCost(f.A, f.b, {3, 3, 1}), nullptr, f0.data(), f1.data(),
+                               &points[f.point]);
+    // Anchor f0 so that the frames are observable on their own.
+    problem.AddResidualBlock(new LinearCost(Eigen::MatrixXd::Identity(3, 3),
+                                            Eigen::VectorXd::Ones(3), {3}),
+                             nullptr, f0.data());
+  };
+  ceres::Problem full;
+  Eigen::Vector3d f0_full, f1_full;
+  std::vector<double> points_full;
+  build(full, f0_full, f1_full, points_full);
+  full.SetParameterBlockConstant(&points_full[17]);  // no information: keep it out of the solve
+  solveTightly(full);
+
+  ceres::Problem reduced;
+  Eigen::Vector3d f0, f1;
+  std::vector<double> points;
+  build(reduced, f0, f1, points);
+  std::vector<double*> point_blocks;
+  for (double& p : points) point_blocks.push_back(&p);
+  MarginalizationStats stats;
+  Marginalizer marginalizer;
+  marginalizer.marginalize(reduced, point_blocks, &stats);
+  EXPECT_EQ(stats.num_prior_blocks, 2);
+  EXPECT_EQ(reduced.NumResidualBlocks(), 2);  // the anchor and the prior
+  solveTightly(reduced);
+  EXPECT_LT((f0 - f0_full).norm(), 1e-6);
+  EXPECT_LT((f1 - f1_full).norm(), 1e-6);
+}
+
 // Information over the kept blocks of everything that remains after marginalisation
 // (prior + untouched residuals) = inverse of the marginal covariance of the full problem.
 TEST(Marginalization, PriorInformationEqualsInverseMarginalCovariance) {
