@@ -1,0 +1,162 @@
+#pragma once
+// The sliding window of photometric bundle adjustment (paper Sec. V-A, V-D; DSO Sec. 2.3):
+// N_f keyframes (pose T_world_cam, affine [a, b], exposure t), active points hosted by
+// keyframes (host pixel + inverse distance 1/‖x‖), and one photometric residual
+// (eq. 5–7, DSO's 8-pixel pattern) per (point, target keyframe) pair that projects validly.
+// Everything lives in ONE persistent ceres::Problem, jointly over poses, inverse distances,
+// affine parameters and — when enabled — the intrinsics shared by all keyframes; the
+// marginalisation priors stay in it.
+//
+// Solving: points form the first elimination group, so Ceres's Schur complement removes them
+// (DENSE_SCHUR while the reduced camera system is small, SPARSE_SCHUR beyond);
+// Levenberg–Marquardt with an iteration limit (DSO: at most 6 Gauss–Newton iterations per
+// keyframe) and a time limit.
+//
+// Gauge (7 DoF of monocular odometry, plus the brightness offset of the affine model):
+//  - pose: the first keyframe's pose is held constant while it is in the window;
+//  - brightness: its affine block is held constant too (e^{a_j − a_i} sees only differences);
+//  - scale: one inverse distance — the anchor keyframe's point with the most residuals when
+//    the window is first optimised — is held constant.
+// Marginalisation treats constant blocks as known, so the priors built while the anchors are
+// constant carry the gauge: once the anchor keyframe has left, "the prior fixes it".
+//
+// Outliers: after a solve, a residual whose energy (without the robust loss) exceeds
+// outlier_energy_per_pixel × pattern size is removed (DSO's 12² per pixel); a point left
+// with fewer than min_residuals_per_point residuals is dropped.
+//
+// Marginalisation (marginalizeKeyframe): points hosted by the keyframe, and points no longer
+// observed by the two newest keyframes, are marginalised (points with no residual are
+// dropped: they carry no information); residuals of the remaining points in the keyframe
+// are dropped (DSO, to keep the Hessian sparse); then the keyframe's pose and affine blocks
+// are marginalised into the prior (marginalizer.hpp).
+
+#include <ceres/problem.h>
+
+#include <Eigen/Core>
+#include <array>
+#include <map>
+#include <memory>
+#include <omnidso/backend/keyframe_marginalization_policy.hpp>
+#include <omnidso/backend/marginalizer.hpp>
+#include <omnidso/backend/photometric_factory.hpp>
+#include <omnidso/core/pyramid.hpp>
+#include <omnidso/core/se3.hpp>
+#include <string>
+#include <vector>
+
+namespace omnidso {
+
+struct WindowOptions {
+  int max_keyframes = 7;  // N_f
+  bool optimize_intrinsics = true;
+  DifferentiationMode differentiation = DifferentiationMode::kAnalytic;
+  int max_iterations = 6;
+  double max_solver_time_s = 1e6;
+  int num_threads = 1;
+  // Reduced camera systems up to this size use DENSE_SCHUR, larger ones SPARSE_SCHUR.
+  int dense_schur_max_size = 400;
+  double outlier_energy_per_pixel = 12.0 * 12.0;
+  int min_residuals_per_point = 1;
+  double huber_threshold = kDsoHuberThreshold;
+  double gradient_weight_c = kDsoGradientWeightC;
+};
+
+struct WindowKeyframe {
+  int id = 0;
+  double timestamp = 0.0;
+  double exposure = 1.0;  // t, any unit consistent across frames
+  std::array<double, 7> pose{};  // T_world_cam as [qx qy qz qw tx ty tz]
+  std::array<double, 2> affine{};  // [a, b]
+  std::shared_ptr<const ImagePyramid> pyramid;
+
+  SE3d T_world_cam() const { return SE3d::fromParameters(pose.data()); }
+};
+
+struct WindowPoint {
+  int id = 0;
+  int host_id = 0;
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // level 0
+  double inverse_distance = 0.0;
+  HostPatch<kWindowPatternSize> patch;
+  std::map<int, ceres::ResidualBlockId> residuals;  // by target keyframe id
+};
+
+struct WindowSolveSummary {
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  double solve_ms = 0.0;
+  int num_residuals = 0;
+  int num_points = 0;
+  int num_keyframes = 0;
+  bool usable = false;
+  std::string linear_solver;
+};
+
+class SlidingWindow {
+ public:
+  // intrinsics: the level-0 parameters of `model_name` ([fx fy cx cy …]).
+  SlidingWindow(const std::string& model_name, const Eigen::VectorXd& intrinsics,
+                WindowOptions options = {});
+  ~SlidingWindow();
+  SlidingWindow(const SlidingWindow&) = delete;
+  SlidingWindow& operator=(const SlidingWindow&) = delete;
+
+  // Adds a keyframe, and residuals of every active point that projects validly into it.
+  void addKeyframe(int id, double timestamp, double exposure, const SE3d& T_world_cam,
+                   const Eigen::Vector2d& affine, std::shared_ptr<const ImagePyramid> pyramid);
+
+  // Activates a point hosted by keyframe host_id at a level-0 pixel. Returns its id, or -1
+  // when the pattern leaves the host image or no other keyframe observes it validly.
+  int addPoint(int host_id, const Eigen::Vector2d& pixel, double inverse_distance);
+
+  WindowSolveSummary optimize();
+  // Removes outlier residuals, then points left with too few residuals. Returns the number
+  // of residuals removed.
+  int removeOutliers();
+
+  // The policy's view of the window (oldest first) and the keyframes it would remove.
+  std::vector<KeyframeSummary> keyframeSummaries() const;
+  std::vector<int> keyframesToMarginalize(const KeyframeMarginalizationOptions& policy) const;
+  void marginalizeKeyframe(int id);
+
+  // Read access.
+  int numKeyframes() const { return static_cast<int>(keyframes_.size()); }
+  int numPoints() const { return static_cast<int>(points_.size()); }
+  int numResiduals() const;
+  std::vector<int> keyframeIds() const;  // oldest first
+  const WindowKeyframe& keyframe(int id) const;
+  const std::map<int, std::unique_ptr<WindowPoint>>& points() const { return points_; }
+  const Eigen::VectorXd& intrinsics() const { return intrinsics_; }
+  // World position of an active point (host pose · bearing / inverse distance).
+  Eigen::Vector3d pointInWorld(const WindowPoint& point) const;
+  bool hasPrior() const { return has_prior_; }
+
+  // Test access: set the state directly (e.g. to perturb it).
+  WindowKeyframe& mutableKeyframe(int id);
+  WindowPoint& mutablePoint(int id);
+  Eigen::VectorXd& mutableIntrinsics() { return intrinsics_; }
+
+ private:
+  bool addResidual(WindowPoint& point, WindowKeyframe& target);
+  WindowObservation observation(const WindowPoint& point, const WindowKeyframe& target) const;
+  void removePoint(int id, bool marginalize);
+  void fixGaugeBeforeFirstSolve();
+
+  WindowOptions options_;
+  std::unique_ptr<PhotometricResidualFactory> factory_;
+  Eigen::VectorXd intrinsics_;
+  std::unique_ptr<ceres::Manifold> pose_manifold_;
+  std::unique_ptr<ceres::LossFunction> loss_;
+  std::unique_ptr<ceres::Problem> problem_;
+  Marginalizer marginalizer_;
+  std::vector<std::unique_ptr<WindowKeyframe>> keyframes_;  // oldest first
+  std::map<int, std::unique_ptr<WindowPoint>> points_;
+  int next_point_id_ = 0;
+  int anchor_keyframe_id_ = -1;
+  int scale_anchor_point_id_ = -1;
+  bool has_prior_ = false;
+  bool scale_fixed_by_prior_ = false;
+};
+
+}  // namespace omnidso

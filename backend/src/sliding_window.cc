@@ -1,0 +1,329 @@
+#include <ceres/loss_function.h>
+#include <ceres/ordered_groups.h>
+#include <ceres/solver.h>
+
+#include <algorithm>
+#include <omnidso/backend/sliding_window.hpp>
+#include <omnidso/core/error.hpp>
+#include <omnidso/core/timing.hpp>
+#include <omnidso/residuals/residual_pattern.hpp>
+#include <omnidso/residuals/se3_manifold.hpp>
+
+namespace omnidso {
+
+SlidingWindow::SlidingWindow(const std::string& model_name, const Eigen::VectorXd& intrinsics,
+                             WindowOptions options)
+    : options_(options),
+      factory_(PhotometricResidualFactory::forModel(model_name)),
+      intrinsics_(intrinsics),
+      pose_manifold_(std::make_unique<SE3Manifold>()),
+      loss_(makePhotometricLoss(kWindowPatternSize, options.huber_threshold)) {
+  if (intrinsics_.size() != factory_->numIntrinsics())
+    throw Error("SlidingWindow: model '" + model_name + "' takes " +
+                std::to_string(factory_->numIntrinsics()) + " intrinsics, got " +
+                std::to_string(intrinsics_.size()));
+  if (options_.max_keyframes < 2) throw Error("SlidingWindow: max_keyframes must be at least 2");
+  ceres::Problem::Options problem_options;
+  problem_options.enable_fast_removal = true;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_ = std::make_unique<ceres::Problem>(problem_options);
+  problem_->AddParameterBlock(intrinsics_.data(), static_cast<int>(intrinsics_.size()));
+  if (!options_.optimize_intrinsics) problem_->SetParameterBlockConstant(intrinsics_.data());
+}
+
+SlidingWindow::~SlidingWindow() = default;
+
+std::vector<int> SlidingWindow::keyframeIds() const {
+  std::vector<int> ids;
+  for (const auto& kf : keyframes_) ids.push_back(kf->id);
+  return ids;
+}
+
+const WindowKeyframe& SlidingWindow::keyframe(int id) const {
+  for (const auto& kf : keyframes_)
+    if (kf->id == id) return *kf;
+  throw Error("SlidingWindow: no keyframe " + std::to_string(id) + " in the window");
+}
+
+WindowKeyframe& SlidingWindow::mutableKeyframe(int id) {
+  return const_cast<WindowKeyframe&>(static_cast<const SlidingWindow&>(*this).keyframe(id));
+}
+
+WindowPoint& SlidingWindow::mutablePoint(int id) {
+  const auto it = points_.find(id);
+  if (it == points_.end()) throw Error("SlidingWindow: no point " + std::to_string(id));
+  return *it->second;
+}
+
+int SlidingWindow::numResiduals() const {
+  int n = 0;
+  for (const auto& [id, point] : points_) n += static_cast<int>(point->residuals.size());
+  return n;
+}
+
+void SlidingWindow::addKeyframe(int id, double timestamp, double exposure,
+                                const SE3d& T_world_cam, const Eigen::Vector2d& affine,
+                                std::shared_ptr<const ImagePyramid> pyramid) {
+  for (const auto& kf : keyframes_)
+    if (kf->id == id) throw Error("SlidingWindow: keyframe " + std::to_string(id) + " added twice");
+  if (!pyramid) throw Error("SlidingWindow: keyframe " + std::to_string(id) + " has no image");
+  auto kf = std::make_unique<WindowKeyframe>();
+  kf->id = id;
+  kf->timestamp = timestamp;
+  kf->exposure = exposure;
+  T_world_cam.toParameters(kf->pose.data());
+  kf->affine = {affine.x(), affine.y()};
+  kf->pyramid = std::move(pyramid);
+  problem_->AddParameterBlock(kf->pose.data(), 7, pose_manifold_.get());
+  problem_->AddParameterBlock(kf->affine.data(), 2);
+  if (anchor_keyframe_id_ < 0 && !has_prior_) {
+    anchor_keyframe_id_ = id;  // gauge: pose and brightness offset
+    problem_->SetParameterBlockConstant(kf->pose.data());
+    problem_->SetParameterBlockConstant(kf->affine.data());
+  }
+  WindowKeyframe& target = *kf;
+  keyframes_.push_back(std::move(kf));
+  for (auto& [pid, point] : points_)
+    if (point->host_id != id) addResidual(*point, target);
+}
+
+WindowObservation SlidingWindow::observation(const WindowPoint& point,
+                                             const WindowKeyframe& target) const {
+  WindowObservation obs;
+  obs.host = point.patch;
+  obs.target_image = &target.pyramid->level(0);
+  obs.host_exposure = keyframe(point.host_id).exposure;
+  obs.target_exposure = target.exposure;
+  obs.level = 0;
+  return obs;
+}
+
+bool SlidingWindow::addResidual(WindowPoint& point, WindowKeyframe& target) {
+  WindowKeyframe& host = mutableKeyframe(point.host_id);
+  const WindowObservation obs = observation(point, target);
+  std::vector<double*> blocks = {host.pose.data(),   target.pose.data(),  &point.inverse_distance,
+                                 host.affine.data(), target.affine.data(), intrinsics_.data()};
+  if (factory_->status(obs, blocks.data()) != PhotometricStatus::kValid) return false;
+  point.residuals[target.id] =
+      problem_->AddResidualBlock(factory_->makeCost(options_.differentiation, obs), loss_.get(),
+                                 blocks);
+  return true;
+}
+
+int SlidingWindow::addPoint(int host_id, const Eigen::Vector2d& pixel, double inverse_distance) {
+  const WindowKeyframe& host = keyframe(host_id);
+  const ImageF& image = host.pyramid->level(0);
+  // The pattern plus the bilinear footprint must stay inside the host image.
+  const double margin = patternRadius<kWindowPatternSize>() + 1.0;
+  if (!(pixel.x() >= margin && pixel.y() >= margin && pixel.x() <= image.width() - 1 - margin &&
+        pixel.y() <= image.height() - 1 - margin))
+    return -1;
+  auto point = std::make_unique<WindowPoint>();
+  point->id = next_point_id_;
+  point->host_id = host_id;
+  point->pixel = pixel;
+  point->inverse_distance = inverse_distance;
+  point->patch = makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(0), pixel,
+                                                   options_.gradient_weight_c);
+  problem_->AddParameterBlock(&point->inverse_distance, 1);
+  for (auto& kf : keyframes_)
+    if (kf->id != host_id) addResidual(*point, *kf);
+  if (point->residuals.empty()) {
+    problem_->RemoveParameterBlock(&point->inverse_distance);
+    return -1;
+  }
+  ++next_point_id_;
+  const int id = point->id;
+  points_.emplace(id, std::move(point));
+  return id;
+}
+
+void SlidingWindow::fixGaugeBeforeFirstSolve() {
+  if (scale_anchor_point_id_ >= 0 || scale_fixed_by_prior_ || points_.empty()) return;
+  // The point with the most residuals, preferring the pose anchor's own points; ties go to
+  // the lowest id, so the choice is deterministic.
+  const WindowPoint* best = nullptr;
+  for (const auto& [id, point] : points_) {
+    if (!best) {
+      best = point.get();
+      continue;
+    }
+    const bool point_anchored = point->host_id == anchor_keyframe_id_;
+    const bool best_anchored = best->host_id == anchor_keyframe_id_;
+    if (point_anchored != best_anchored) {
+      if (point_anchored) best = point.get();
+      continue;
+    }
+    if (point->residuals.size() > best->residuals.size()) best = point.get();
+  }
+  scale_anchor_point_id_ = best->id;
+  problem_->SetParameterBlockConstant(&mutablePoint(best->id).inverse_distance);
+}
+
+WindowSolveSummary SlidingWindow::optimize() {
+  fixGaugeBeforeFirstSolve();
+  WindowSolveSummary out;
+  out.num_points = numPoints();
+  out.num_keyframes = numKeyframes();
+  out.num_residuals = numResiduals();
+  if (out.num_residuals == 0) return out;
+
+  ceres::Solver::Options solver;
+  auto* ordering = new ceres::ParameterBlockOrdering;
+  std::vector<double*> all_blocks;
+  problem_->GetParameterBlocks(&all_blocks);
+  int reduced_size = 0;
+  for (double* block : all_blocks) {
+    const bool is_point = problem_->ParameterBlockSize(block) == 1 &&
+                          problem_->ParameterBlockTangentSize(block) == 1 &&
+                          block != intrinsics_.data();
+    ordering->AddElementToGroup(block, is_point ? 0 : 1);
+    if (!is_point && !problem_->IsParameterBlockConstant(block))
+      reduced_size += problem_->ParameterBlockTangentSize(block);
+  }
+  solver.linear_solver_ordering.reset(ordering);
+  solver.linear_solver_type = reduced_size <= options_.dense_schur_max_size
+                                  ? ceres::DENSE_SCHUR
+                                  : ceres::SPARSE_SCHUR;
+  solver.max_num_iterations = options_.max_iterations;
+  solver.max_solver_time_in_seconds = options_.max_solver_time_s;
+  solver.num_threads = options_.num_threads;
+  solver.logging_type = ceres::SILENT;
+  Stopwatch watch;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, problem_.get(), &summary);
+  out.solve_ms = watch.elapsedMs();
+  out.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  out.initial_cost = summary.initial_cost;
+  out.final_cost = summary.final_cost;
+  out.usable = summary.IsSolutionUsable();
+  out.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
+  return out;
+}
+
+int SlidingWindow::removeOutliers() {
+  const double threshold = options_.outlier_energy_per_pixel * kWindowPatternSize;
+  int removed = 0;
+  std::vector<int> weak_points;
+  std::array<double, kWindowPatternSize> r;
+  for (auto& [pid, point] : points_) {
+    for (auto it = point->residuals.begin(); it != point->residuals.end();) {
+      double cost = 0.0;
+      const bool ok =
+          problem_->EvaluateResidualBlock(it->second, false, &cost, r.data(), nullptr);
+      if (!ok || 2.0 * cost > threshold) {  // cost = ½‖r‖²
+        problem_->RemoveResidualBlock(it->second);
+        it = point->residuals.erase(it);
+        ++removed;
+      } else {
+        ++it;
+      }
+    }
+    if (static_cast<int>(point->residuals.size()) < options_.min_residuals_per_point)
+      weak_points.push_back(pid);
+  }
+  for (int pid : weak_points) removePoint(pid, false);
+  return removed;
+}
+
+void SlidingWindow::removePoint(int id, bool marginalize) {
+  WindowPoint& point = mutablePoint(id);
+  double* block = &point.inverse_distance;
+  if (marginalize && !point.residuals.empty()) {
+    if (marginalizer_.marginalize(*problem_, {block})) has_prior_ = true;
+    if (id == scale_anchor_point_id_) scale_fixed_by_prior_ = true;
+  } else {
+    problem_->RemoveParameterBlock(block);
+    marginalizer_.forget(block);
+  }
+  if (id == scale_anchor_point_id_) scale_anchor_point_id_ = -1;
+  points_.erase(id);
+}
+
+std::vector<KeyframeSummary> SlidingWindow::keyframeSummaries() const {
+  std::vector<KeyframeSummary> out;
+  if (keyframes_.empty()) return out;
+  const int newest = keyframes_.back()->id;
+  std::map<int, KeyframeSummary> by_id;
+  for (const auto& kf : keyframes_) {
+    KeyframeSummary s;
+    s.id = kf->id;
+    s.T_world_cam = kf->T_world_cam();
+    by_id[kf->id] = s;
+  }
+  for (const auto& [pid, point] : points_) {
+    KeyframeSummary& s = by_id[point->host_id];
+    ++s.num_points;
+    if (point->host_id == newest || point->residuals.count(newest)) ++s.num_points_visible_in_newest;
+  }
+  for (const auto& kf : keyframes_) out.push_back(by_id[kf->id]);
+  return out;
+}
+
+std::vector<int> SlidingWindow::keyframesToMarginalize(
+    const KeyframeMarginalizationOptions& policy) const {
+  KeyframeMarginalizationOptions o = policy;
+  o.max_keyframes = options_.max_keyframes;
+  return selectKeyframesToMarginalize(keyframeSummaries(), o);
+}
+
+void SlidingWindow::marginalizeKeyframe(int id) {
+  WindowKeyframe& kf = mutableKeyframe(id);
+  std::vector<int> newest_two;
+  for (size_t i = keyframes_.size(); i-- > 0 && newest_two.size() < 2;)
+    if (keyframes_[i]->id != id) newest_two.push_back(keyframes_[i]->id);
+
+  // 1. Points hosted by the keyframe, or no longer observed by the two newest keyframes.
+  std::vector<double*> to_marginalize;
+  std::vector<int> marginalized_ids, dropped_ids;
+  for (const auto& [pid, point] : points_) {
+    bool observed_by_newest = false;
+    for (int n : newest_two)
+      observed_by_newest |= point->host_id == n || point->residuals.count(n) > 0;
+    if (point->host_id != id && observed_by_newest) continue;
+    if (point->residuals.empty()) {
+      dropped_ids.push_back(pid);
+    } else {
+      to_marginalize.push_back(&point->inverse_distance);
+      marginalized_ids.push_back(pid);
+    }
+  }
+  if (!to_marginalize.empty() && marginalizer_.marginalize(*problem_, to_marginalize))
+    has_prior_ = true;
+  for (int pid : marginalized_ids) {
+    if (pid == scale_anchor_point_id_) {
+      scale_fixed_by_prior_ = true;
+      scale_anchor_point_id_ = -1;
+    }
+    points_.erase(pid);
+  }
+  for (int pid : dropped_ids) removePoint(pid, false);
+
+  // 2. Residuals of the remaining points into this keyframe are dropped (sparsity).
+  std::vector<int> emptied;
+  for (auto& [pid, point] : points_) {
+    const auto it = point->residuals.find(id);
+    if (it == point->residuals.end()) continue;
+    problem_->RemoveResidualBlock(it->second);
+    point->residuals.erase(it);
+    if (point->residuals.empty()) emptied.push_back(pid);
+  }
+  for (int pid : emptied) removePoint(pid, false);
+
+  // 3. The keyframe's own blocks.
+  if (marginalizer_.marginalize(*problem_, {kf.pose.data(), kf.affine.data()})) has_prior_ = true;
+  if (id == anchor_keyframe_id_) anchor_keyframe_id_ = -1;
+  keyframes_.erase(std::find_if(keyframes_.begin(), keyframes_.end(),
+                                [id](const auto& k) { return k->id == id; }));
+}
+
+Eigen::Vector3d SlidingWindow::pointInWorld(const WindowPoint& point) const {
+  const WindowKeyframe& host = keyframe(point.host_id);
+  Eigen::Vector3d bearing;
+  if (!factory_->unproject(intrinsics_, point.pixel, bearing))
+    throw Error("SlidingWindow: point " + std::to_string(point.id) + " no longer unprojects");
+  return host.T_world_cam() * (bearing / point.inverse_distance);
+}
+
+}  // namespace omnidso
