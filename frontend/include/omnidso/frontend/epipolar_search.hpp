@@ -1,0 +1,99 @@
+#pragma once
+// Immature points and their inverse-distance search along the epipolar curve (paper Sec. V-B,
+// eq. 9–12).
+//
+// A candidate pixel p of a keyframe starts with the inverse-distance interval [d_min, d_max] =
+// [0, ∞) (Sec. V-C). For a tracked frame with [R t] = T_target_host and host bearing b = π⁻¹(p):
+//   x̃(d) = R b + d t  ∝  R π⁻¹(p, d) + t                       (every central π is scale-free)
+//   p_0 = π_s(x̃(d_min)),  p_∞ = π_s(x̃(d_max))   (π_s: onto the unit sphere; x̃(∞) ∝ t)  (eq. 9, 10)
+//   p_L(s) = (1 − s) p_0 + s p_∞,   u_L(s) = π(p_L(s))                                      (eq. 11, 12)
+// (s = 1 − α of the paper: the search runs from the far end d_min.) p_L(s) is a positive
+// combination c_b(s) R b + c_t(s) t, so it lies on the exact epipolar curve, and the inverse
+// distance it stands for is d(s) = c_t / c_b, increasing with s.
+// The search steps s by δs = ‖∂u_L/∂s‖⁻¹ — one pixel — recomputed at every step (for the
+// pinhole model the curve is DSO's straight line and δs is constant: one code path), over at
+// most `max_search_px` pixels; steps where p_L leaves the model's domain or the pattern leaves
+// the image are skipped. At each step the pattern SSD with affine brightness
+//   E(s) = Σ_o ‖ I_j[u_L(s) + J_o o] − (a I_i[p + o] + b) ‖_γ,
+//   J_o = ∂π/∂x (p_L(s)) · c_b R · ∂b/∂u    (the pattern's image in the target),
+// is evaluated (Huber γ). The best step must beat the best one farther than 2 px from it by
+// `min_quality` (DSO's ratio); Gauss–Newton on s then refines it to sub-pixel, and the interval
+// becomes d(s* ± σ δs), σ the matching uncertainty in pixels.
+
+#include <Eigen/Core>
+#include <array>
+#include <limits>
+#include <omnidso/cameras/camera.hpp>
+#include <omnidso/core/image_ops.hpp>
+#include <omnidso/core/se3.hpp>
+
+namespace omnidso {
+
+inline constexpr int kImmaturePatternSize = 8;
+
+enum class TraceStatus {
+  kUninitialized,  // never traced
+  kGood,           // matched; interval updated
+  kSkipped,        // the interval projects to less than `converged_px`: nothing to search
+  kOutOfBounds,    // no valid step on the curve (outside the image or the model's domain)
+  kOutlier,        // best energy above the outlier threshold
+  kBadCondition,   // ambiguous: best not clearly better than the second best
+};
+const char* toString(TraceStatus status);
+
+struct ImmaturePoint {
+  int host_id = 0;
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // level 0
+  Eigen::Vector3d bearing = Eigen::Vector3d::UnitZ();
+  Eigen::Matrix<double, 3, 2> d_bearing_d_uv = Eigen::Matrix<double, 3, 2>::Zero();
+  std::array<double, kImmaturePatternSize> host_intensity{};
+  double d_min = 0.0;                                       // inverse distance (far end)
+  double d_max = std::numeric_limits<double>::infinity();   // (near end)
+  double quality = 0.0;                                     // second-best / best energy
+  double last_interval_px = std::numeric_limits<double>::infinity();
+  TraceStatus last_status = TraceStatus::kUninitialized;
+  int num_good_traces = 0;
+
+  // The inverse distance to start the window optimisation from.
+  double inverseDistanceEstimate() const;
+};
+
+// Creates an immature point at a level-0 pixel of a keyframe; false when the pixel does not
+// unproject or its pattern leaves the host image.
+bool makeImmaturePoint(const Camera& camera, const ImageF& host_image, int host_id,
+                       const Eigen::Vector2d& pixel, ImmaturePoint* point);
+
+struct EpipolarSearchOptions {
+  double max_search_px = 26.0;    // DSO: 0.027 (w + h)
+  double converged_px = 1.5;      // below this the interval is not searched again
+  double min_quality = 3.0;       // best-to-second-best energy ratio
+  double second_best_radius_px = 2.0;
+  double outlier_energy_per_pixel = 12.0 * 12.0;
+  double huber = 9.0;
+  int gn_iterations = 3;
+  double match_sigma_px = 0.75;   // half-width of the new interval, pixels along the curve
+  int max_domain_skips = 400;     // bounded walk over segments outside the model's domain
+};
+
+// Brightness of the target relative to the host: I_j ≈ a · I_i + b, with
+// a = t_j e^{a_j} / (t_i e^{a_i}), b = b_j − a b_i (eq. 5).
+struct AffineTransfer {
+  double a = 1.0;
+  double b = 0.0;
+};
+
+struct TraceResult {
+  TraceStatus status = TraceStatus::kUninitialized;
+  Eigen::Vector2d match = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  double energy = 0.0;
+  int steps = 0;
+};
+
+// Searches the point in a target image (level 0) and updates its interval, quality and status.
+TraceResult traceImmaturePoint(ImmaturePoint& point, const Camera& camera,
+                               const SE3d& T_target_host, const ImageF& target,
+                               const ImageGradients& target_gradients,
+                               const AffineTransfer& affine,
+                               const EpipolarSearchOptions& options);
+
+}  // namespace omnidso

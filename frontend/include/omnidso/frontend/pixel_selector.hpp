@@ -1,0 +1,48 @@
+#pragma once
+// Candidate pixel selection as in DSO (Engel et al. 2018, Sec. 3.2 "Candidate point
+// selection"), over the camera's validity mask so that the whole fisheye image is used:
+//  1. Region-adaptive threshold: the image is split into 32×32 blocks; each block's
+//     threshold is the median gradient magnitude ‖∇I‖ of its valid pixels plus a global
+//     constant g_th (7 intensity units), smoothed over the 3×3 neighbouring blocks.
+//  2. The image is split into d×d cells; in each, the valid pixel with the largest
+//     |∇I · r| (r a random unit direction per cell, for diversity of gradient directions)
+//     whose ‖∇I‖ passes the threshold is selected. Where a 2d×2d cell got nothing, its best
+//     pixel on pyramid level 1 is taken against 0.75× the threshold, and likewise on level 2
+//     for 4d×4d cells with 0.75² ×: weak-gradient regions still get a few points.
+//  3. d is adapted (d ← d·√(n/N)) until the count n is within 20% of the desired N.
+// Deterministic for a given seed.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <omnidso/core/image.hpp>
+#include <omnidso/core/pyramid.hpp>
+#include <vector>
+
+namespace omnidso {
+
+struct PixelSelectorOptions {
+  int desired_points = 2000;
+  int threshold_block_size = 32;
+  double gradient_threshold_offset = 7.0;  // g_th
+  double coarser_level_factor = 0.75;
+  int border = 4;                // pixels kept free at the image border (pattern + footprint)
+  int max_adaptation_rounds = 4;
+  std::uint64_t seed = 0;
+};
+
+struct SelectedPixel {
+  Eigen::Vector2i pixel;  // level 0
+  int level = 0;          // pyramid level whose pass selected it (0, 1 or 2)
+  float gradient = 0.f;   // ‖∇I‖ at level 0
+};
+
+// `mask`: level-0 validity (non-zero = valid); an empty mask means the whole image. A pixel is
+// only selected when its whole neighbourhood of radius `border` is valid.
+std::vector<SelectedPixel> selectPixels(const ImagePyramid& pyramid, const Mask& mask,
+                                        const PixelSelectorOptions& options);
+
+// The region-adaptive threshold of step 1, one value per threshold block (row-major).
+Image<float> gradientThresholdMap(const ImageGradients& gradients, const Mask& mask,
+                                  int block_size, double offset);
+
+}  // namespace omnidso

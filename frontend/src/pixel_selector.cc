@@ -1,0 +1,190 @@
+#include <algorithm>
+#include <cmath>
+#include <omnidso/core/error.hpp>
+#include <omnidso/frontend/pixel_selector.hpp>
+#include <random>
+
+namespace omnidso {
+namespace {
+
+float gradientNorm(const ImageGradients& g, int u, int v) {
+  return std::hypot(g.dx(u, v), g.dy(u, v));
+}
+
+// The mask eroded by `radius` (and the image border): where a pattern fits entirely.
+Mask usableMask(const Mask& mask, int width, int height, int radius) {
+  Mask out(width, height, 0);
+  for (int v = radius; v < height - radius; ++v)
+    for (int u = radius; u < width - radius; ++u) {
+      bool ok = true;
+      if (!mask.empty())
+        for (int dv = -radius; dv <= radius && ok; ++dv)
+          ok = mask(u - radius, v + dv) && mask(u + radius, v + dv);
+      if (ok && !mask.empty())
+        for (int du = -radius; du <= radius && ok; ++du)
+          ok = mask(u + du, v - radius) && mask(u + du, v + radius);
+      if (ok && !mask.empty()) ok = mask(u, v);
+      out(u, v) = ok ? 255 : 0;
+    }
+  return out;
+}
+
+struct Candidate {
+  int u = -1, v = -1;
+  float score = -1.f;
+  bool valid() const { return u >= 0; }
+};
+
+class Selector {
+ public:
+  Selector(const ImagePyramid& pyramid, const Mask& usable, const Image<float>& thresholds,
+           const PixelSelectorOptions& options)
+      : pyramid_(pyramid), usable_(usable), thresholds_(thresholds), options_(options) {}
+
+  std::vector<SelectedPixel> run(int d) {
+    std::vector<SelectedPixel> out;
+    std::mt19937_64 rng(options_.seed);
+    std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI);
+    const int w = usable_.width(), h = usable_.height();
+    for (int v4 = 0; v4 < h; v4 += 4 * d)
+      for (int u4 = 0; u4 < w; u4 += 4 * d) {
+        bool any4 = false;
+        Candidate best4;
+        for (int v2 = v4; v2 < std::min(v4 + 4 * d, h); v2 += 2 * d)
+          for (int u2 = u4; u2 < std::min(u4 + 4 * d, w); u2 += 2 * d) {
+            bool any2 = false;
+            Candidate best2;
+            for (int v1 = v2; v1 < std::min(v2 + 2 * d, h); v1 += d)
+              for (int u1 = u2; u1 < std::min(u2 + 2 * d, w); u1 += d) {
+                const double a = angle(rng);
+                const Eigen::Vector2f dir(std::cos(a), std::sin(a));
+                Candidate best1;
+                for (int v = v1; v < std::min(v1 + d, h); ++v)
+                  for (int u = u1; u < std::min(u1 + d, w); ++u) {
+                    if (!usable_(u, v)) continue;
+                    consider(0, u, v, dir, 1.0, &best1);
+                    consider(1, u, v, dir, options_.coarser_level_factor, &best2);
+                    consider(2, u, v, dir, options_.coarser_level_factor *
+                                              options_.coarser_level_factor, &best4);
+                  }
+                if (best1.valid()) {
+                  out.push_back(make(best1, 0));
+                  any2 = any4 = true;
+                }
+              }
+            if (!any2 && best2.valid()) {
+              out.push_back(make(best2, 1));
+              any4 = true;
+            }
+          }
+        if (!any4 && best4.valid()) out.push_back(make(best4, 2));
+      }
+    return out;
+  }
+
+ private:
+  // Level-L gradient at the level-L pixel covering level-0 pixel (u, v).
+  void consider(int level, int u, int v, const Eigen::Vector2f& dir, double factor,
+                Candidate* best) const {
+    if (level >= pyramid_.numLevels()) return;
+    const ImageGradients& g = pyramid_.gradients(level);
+    const int ul = std::min(u >> level, g.dx.width() - 1);
+    const int vl = std::min(v >> level, g.dx.height() - 1);
+    const float norm = gradientNorm(g, ul, vl);
+    const int bs = options_.threshold_block_size;
+    const float threshold =
+        static_cast<float>(factor) *
+        thresholds_(std::min(u / bs, thresholds_.width() - 1), std::min(v / bs, thresholds_.height() - 1));
+    if (norm <= threshold) return;
+    const float score = std::abs(g.dx(ul, vl) * dir.x() + g.dy(ul, vl) * dir.y());
+    if (score > best->score) *best = {u, v, score};
+  }
+
+  SelectedPixel make(const Candidate& c, int level) const {
+    SelectedPixel p;
+    p.pixel = Eigen::Vector2i(c.u, c.v);
+    p.level = level;
+    p.gradient = gradientNorm(pyramid_.gradients(0), c.u, c.v);
+    return p;
+  }
+
+  const ImagePyramid& pyramid_;
+  const Mask& usable_;
+  const Image<float>& thresholds_;
+  const PixelSelectorOptions& options_;
+};
+
+}  // namespace
+
+Image<float> gradientThresholdMap(const ImageGradients& gradients, const Mask& mask,
+                                  int block_size, double offset) {
+  const int w = gradients.dx.width(), h = gradients.dx.height();
+  const int bw = (w + block_size - 1) / block_size, bh = (h + block_size - 1) / block_size;
+  Image<float> raw(bw, bh, 0.f);
+  Image<std::uint8_t> has(bw, bh, 0);
+  std::vector<float> values;
+  for (int by = 0; by < bh; ++by)
+    for (int bx = 0; bx < bw; ++bx) {
+      values.clear();
+      for (int v = by * block_size; v < std::min((by + 1) * block_size, h); ++v)
+        for (int u = bx * block_size; u < std::min((bx + 1) * block_size, w); ++u)
+          if (mask.empty() || mask(u, v)) values.push_back(gradientNorm(gradients, u, v));
+      if (values.empty()) continue;
+      std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+      raw(bx, by) = values[values.size() / 2];
+      has(bx, by) = 1;
+    }
+  // Smooth over the 3×3 neighbourhood of blocks that have valid pixels.
+  Image<float> out(bw, bh, static_cast<float>(offset));
+  for (int by = 0; by < bh; ++by)
+    for (int bx = 0; bx < bw; ++bx) {
+      double sum = 0.0;
+      int n = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = bx + dx, y = by + dy;
+          if (x < 0 || y < 0 || x >= bw || y >= bh || !has(x, y)) continue;
+          sum += raw(x, y);
+          ++n;
+        }
+      out(bx, by) = static_cast<float>((n ? sum / n : 0.0) + offset);
+    }
+  return out;
+}
+
+std::vector<SelectedPixel> selectPixels(const ImagePyramid& pyramid, const Mask& mask,
+                                        const PixelSelectorOptions& options) {
+  const ImageF& image = pyramid.level(0);
+  if (!mask.empty() && (mask.width() != image.width() || mask.height() != image.height()))
+    throw Error("selectPixels: the validity mask is " + std::to_string(mask.width()) + "x" +
+                std::to_string(mask.height()) + ", the image " + std::to_string(image.width()) +
+                "x" + std::to_string(image.height()));
+  if (options.desired_points <= 0) return {};
+  const Mask usable = usableMask(mask, image.width(), image.height(), options.border);
+  long valid = 0;
+  for (size_t i = 0; i < usable.size(); ++i) valid += usable.data()[i] != 0;
+  if (valid == 0) return {};
+  const Image<float> thresholds = gradientThresholdMap(
+      pyramid.gradients(0), mask, options.threshold_block_size, options.gradient_threshold_offset);
+  Selector selector(pyramid, usable, thresholds, options);
+  double d = std::max(1.0, std::sqrt(static_cast<double>(valid) / options.desired_points));
+  std::vector<SelectedPixel> best = selector.run(static_cast<int>(std::lround(d)));
+  for (int round = 0; round < options.max_adaptation_rounds; ++round) {
+    const double ratio = static_cast<double>(best.size()) / options.desired_points;
+    if (ratio > 0.8 && ratio < 1.2) break;
+    if (best.empty()) {
+      d = std::max(1.0, d / 2.0);
+    } else {
+      d = std::max(1.0, d * std::sqrt(ratio));
+    }
+    std::vector<SelectedPixel> next = selector.run(static_cast<int>(std::lround(d)));
+    const double next_ratio = static_cast<double>(next.size()) / options.desired_points;
+    if (std::abs(std::log(std::max(next_ratio, 1e-9))) <
+        std::abs(std::log(std::max(ratio, 1e-9))))
+      best = std::move(next);
+    if (d <= 1.0) break;
+  }
+  return best;
+}
+
+}  // namespace omnidso
