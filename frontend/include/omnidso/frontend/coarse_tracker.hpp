@@ -1,0 +1,80 @@
+#pragma once
+// Coarse-to-fine direct image alignment of a new frame to the newest keyframe (paper
+// Sec. V-C "Initial Frame Tracking"; DSO Sec. 3.1): the window's active points, expressed in
+// the newest keyframe (pixel + inverse distance), are aligned to the new frame over a
+// 5-level pyramid, estimating the relative pose T_frame_ref and the frame's affine
+// brightness [a, b] with the tracking residual (residuals/tracking_residual.hpp; one pixel
+// per point, as DSO's tracker) in a small Ceres problem per level.
+//
+// Coarser levels: the points falling into one coarse pixel are merged (mean inverse
+// distance) — the coarse image averages them too.
+// Hypotheses (DSO): constant velocity, double, half and zero motion, then small rotations;
+// each is tried coarse to fine, and dropped after the coarsest level when its error exceeds
+// `early_reject_factor` × the best coarsest-level error so far. Trying stops as soon as a
+// hypothesis ends below `good_enough_factor` × the previous frame's error.
+// Success: enough points stay valid and the final error is finite.
+// Flow statistics for the keyframe decision (DSO): RMS pixel shift of the points under the
+// translation alone (flow_t) and under the full motion (flow_rt), at level 0.
+
+#include <Eigen/Core>
+#include <memory>
+#include <omnidso/cameras/camera.hpp>
+#include <omnidso/core/pyramid.hpp>
+#include <omnidso/core/se3.hpp>
+#include <vector>
+
+namespace omnidso {
+
+struct TrackingReferencePoint {
+  Eigen::Vector2d pixel;    // level 0, in the reference keyframe
+  double inverse_distance;  // 1/‖x‖ in the reference keyframe
+};
+
+struct CoarseTrackerOptions {
+  int num_levels = 5;
+  std::vector<int> max_iterations = {6, 8, 10, 12, 15};  // per level, finest first
+  double huber_threshold = 9.0;
+  double early_reject_factor = 1.5;
+  double good_enough_factor = 1.5;  // DSO's re-track threshold
+  double min_valid_fraction = 0.3;
+  double rotation_hypothesis_rad = 0.01;
+  int num_threads = 1;
+};
+
+struct TrackingResult {
+  bool ok = false;
+  SE3d T_frame_ref;
+  Eigen::Vector2d affine = Eigen::Vector2d::Zero();  // [a, b] of the new frame
+  std::vector<double> level_rmse;                     // finest first
+  double rmse = 0.0;                                  // level 0
+  double valid_fraction = 0.0;
+  double flow_t = 0.0;   // RMS shift, translation only (px)
+  double flow_rt = 0.0;  // RMS shift, full motion (px)
+  int hypotheses_tried = 0;
+};
+
+class CoarseTracker {
+ public:
+  CoarseTracker(const Camera& camera, CoarseTrackerOptions options = {});
+  ~CoarseTracker();
+
+  // The reference: the newest keyframe's pyramid, exposure, affine and points.
+  void setReference(std::shared_ptr<const ImagePyramid> pyramid, double exposure,
+                    const Eigen::Vector2d& affine, const std::vector<TrackingReferencePoint>& points);
+  bool hasReference() const;
+  int numReferencePoints(int level = 0) const;
+
+  // hypotheses: T_frame_ref candidates, most likely first. affine_guess: [a, b] to start from.
+  TrackingResult track(const ImagePyramid& frame, double exposure,
+                       const std::vector<SE3d>& hypotheses, const Eigen::Vector2d& affine_guess,
+                       double previous_rmse) const;
+
+  // DSO's hypothesis list around a constant-velocity guess (T_last_ref · velocity).
+  std::vector<SE3d> makeHypotheses(const SE3d& T_last_ref, const SE3d& velocity) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace omnidso

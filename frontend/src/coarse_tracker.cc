@@ -1,0 +1,241 @@
+#include <ceres/ceres.h>
+
+#include <cmath>
+#include <map>
+#include <omnidso/cameras/pyramid_scaling.hpp>
+#include <omnidso/frontend/coarse_tracker.hpp>
+#include <omnidso/frontend/model_dispatch.hpp>
+#include <omnidso/residuals/se3_manifold.hpp>
+#include <omnidso/residuals/tracking_residual.hpp>
+
+namespace omnidso {
+
+struct CoarseTracker::Impl {
+  Camera camera;
+  CoarseTrackerOptions options;
+  std::shared_ptr<const ImagePyramid> reference;
+  double exposure = 1.0;
+  Eigen::Vector2d affine = Eigen::Vector2d::Zero();
+  // Per level (finest first): the observations and their level pixels / inverse distances.
+  std::vector<std::vector<TrackingObservation<1>>> observations;
+  std::vector<std::vector<Eigen::Vector2d>> pixels;
+  std::vector<std::vector<double>> inverse_distances;
+  SE3Manifold manifold;
+
+  Impl(const Camera& c, CoarseTrackerOptions o) : camera(c), options(std::move(o)) {}
+
+  struct LevelResult {
+    double rmse = std::numeric_limits<double>::infinity();
+    double valid_fraction = 0.0;
+  };
+
+  template <template <typename> class M>
+  LevelResult solveLevel(ModelTag<M>, const M<double>& model, int level, const ImagePyramid& frame,
+                         double frame_exposure, double* pose, double* frame_affine,
+                         bool optimise) const {
+    typename M<double>::VecN params = model.params();
+    scaleIntrinsicsToLevel(params, level);
+    const M<double> level_model(params);
+    std::vector<std::unique_ptr<ceres::CostFunction>> costs;
+    costs.reserve(observations[level].size());
+    for (TrackingObservation<1> obs : observations[level]) {
+      obs.target_image = &frame.level(level);
+      obs.target_exposure = frame_exposure;
+      costs.emplace_back(makeTrackingCost<M, 1>(DifferentiationMode::kAnalytic, level_model, obs));
+    }
+    if (optimise && !costs.empty()) {
+      ceres::Problem::Options po;
+      po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      ceres::Problem problem(po);
+      ceres::HuberLoss loss(options.huber_threshold);
+      problem.AddParameterBlock(pose, 7, const_cast<SE3Manifold*>(&manifold));
+      problem.AddParameterBlock(frame_affine, 2);
+      const double* params_ptr[] = {pose, frame_affine};
+      double r;
+      int added = 0;
+      for (auto& cost : costs) {
+        if (!cost->Evaluate(params_ptr, &r, nullptr)) continue;  // starts invalid: left out
+        problem.AddResidualBlock(cost.get(), &loss, pose, frame_affine);
+        ++added;
+      }
+      if (added >= 8) {
+        ceres::Solver::Options so;
+        so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+        so.max_num_iterations = options.max_iterations[std::min<size_t>(
+            level, options.max_iterations.size() - 1)];
+        so.num_threads = options.num_threads;
+        so.logging_type = ceres::SILENT;
+        ceres::Solver::Summary summary;
+        ceres::Solve(so, &problem, &summary);
+      }
+    }
+    // Error of the result: RMS of the (gradient-weighted) residuals that stay valid.
+    LevelResult out;
+    const double* params_ptr[] = {pose, frame_affine};
+    double sum = 0.0;
+    int valid = 0;
+    for (auto& cost : costs) {
+      double r;
+      if (!cost->Evaluate(params_ptr, &r, nullptr)) continue;
+      // Huber-clamped so that a few outliers do not dominate the error (DSO does the same).
+      const double a = std::abs(r);
+      sum += a <= options.huber_threshold ? r * r
+                                          : options.huber_threshold * (2 * a - options.huber_threshold);
+      ++valid;
+    }
+    if (valid > 0) out.rmse = std::sqrt(sum / valid);
+    out.valid_fraction = costs.empty() ? 0.0 : static_cast<double>(valid) / costs.size();
+    return out;
+  }
+
+  template <template <typename> class M>
+  void buildReference(ModelTag<M>, const M<double>& model,
+                      const std::vector<TrackingReferencePoint>& points) {
+    const int levels = std::min(options.num_levels, reference->numLevels());
+    observations.assign(levels, {});
+    pixels.assign(levels, {});
+    inverse_distances.assign(levels, {});
+    for (int level = 0; level < levels; ++level) {
+      typename M<double>::VecN params = model.params();
+      scaleIntrinsicsToLevel(params, level);
+      const M<double> level_model(params);
+      const ImageF& image = reference->level(level);
+      // Merge the points of one level pixel: mean inverse distance.
+      std::map<std::pair<int, int>, std::pair<double, int>> cells;
+      for (const TrackingReferencePoint& p : points) {
+        const int u = static_cast<int>(std::lround(pixelToLevel(p.pixel.x(), level)));
+        const int v = static_cast<int>(std::lround(pixelToLevel(p.pixel.y(), level)));
+        if (u < 1 || v < 1 || u >= image.width() - 1 || v >= image.height() - 1) continue;
+        auto& cell = cells[{v, u}];
+        cell.first += p.inverse_distance;
+        ++cell.second;
+      }
+      for (const auto& [key, acc] : cells) {
+        const Eigen::Vector2d pixel(key.second, key.first);
+        const double d = acc.first / acc.second;
+        const HostPatch<1> patch = makeHostPatch<1>(image, reference->gradients(level), pixel);
+        auto obs = makeTrackingObservation<M, 1>(level_model, patch, d);
+        if (!obs) continue;
+        obs->host_exposure = exposure;
+        obs->host_a = affine.x();
+        obs->host_b = affine.y();
+        observations[level].push_back(*obs);
+        pixels[level].push_back(pixel);
+        inverse_distances[level].push_back(d);
+      }
+    }
+  }
+
+  // RMS pixel shifts of the level-0 points under translation only and under the full motion.
+  template <template <typename> class M>
+  void flow(ModelTag<M>, const M<double>& model, const SE3d& T, TrackingResult* result) const {
+    double sum_t = 0.0, sum_rt = 0.0;
+    int n = 0;
+    const Eigen::Matrix3d R = T.rotationMatrix();
+    for (size_t i = 0; i < pixels[0].size(); ++i) {
+      Eigen::Vector3d b;
+      if (!model.unproject(pixels[0][i], b)) continue;
+      const double d = inverse_distances[0][i];
+      Eigen::Vector2d u_t, u_rt;
+      if (!model.project(b + d * T.translation(), u_t) ||
+          !model.project(R * b + d * T.translation(), u_rt))
+        continue;
+      sum_t += (u_t - pixels[0][i]).squaredNorm();
+      sum_rt += (u_rt - pixels[0][i]).squaredNorm();
+      ++n;
+    }
+    result->flow_t = n ? std::sqrt(sum_t / n) : 0.0;
+    result->flow_rt = n ? std::sqrt(sum_rt / n) : 0.0;
+  }
+};
+
+CoarseTracker::CoarseTracker(const Camera& camera, CoarseTrackerOptions options)
+    : impl_(std::make_unique<Impl>(camera, std::move(options))) {}
+
+CoarseTracker::~CoarseTracker() = default;
+
+bool CoarseTracker::hasReference() const { return impl_->reference != nullptr; }
+
+int CoarseTracker::numReferencePoints(int level) const {
+  if (level < 0 || level >= static_cast<int>(impl_->observations.size())) return 0;
+  return static_cast<int>(impl_->observations[level].size());
+}
+
+void CoarseTracker::setReference(std::shared_ptr<const ImagePyramid> pyramid, double exposure,
+                                 const Eigen::Vector2d& affine,
+                                 const std::vector<TrackingReferencePoint>& points) {
+  impl_->reference = std::move(pyramid);
+  impl_->exposure = exposure;
+  impl_->affine = affine;
+  withResidualModel<void>(impl_->camera, [&](auto tag, const auto& model) {
+    impl_->buildReference(tag, model, points);
+  });
+}
+
+std::vector<SE3d> CoarseTracker::makeHypotheses(const SE3d& T_last_ref,
+                                                const SE3d& velocity) const {
+  const SE3d half = SE3d::exp(0.5 * velocity.log());
+  std::vector<SE3d> out = {velocity * T_last_ref, velocity * velocity * T_last_ref,
+                           half * T_last_ref, T_last_ref};
+  const double a = impl_->options.rotation_hypothesis_rad;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double sign : {1.0, -1.0}) {
+      Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
+      xi[3 + axis] = sign * a;
+      out.push_back(SE3d::exp(xi) * velocity * T_last_ref);
+    }
+  return out;
+}
+
+TrackingResult CoarseTracker::track(const ImagePyramid& frame, double exposure,
+                                    const std::vector<SE3d>& hypotheses,
+                                    const Eigen::Vector2d& affine_guess,
+                                    double previous_rmse) const {
+  TrackingResult best;
+  if (!hasReference() || hypotheses.empty()) return best;
+  const int levels = std::min<int>(impl_->observations.size(), frame.numLevels());
+  std::vector<double> best_coarse_rmse(levels, std::numeric_limits<double>::infinity());
+  double best_final = std::numeric_limits<double>::infinity();
+  withResidualModel<void>(impl_->camera, [&](auto tag, const auto& model) {
+    for (const SE3d& hypothesis : hypotheses) {
+      ++best.hypotheses_tried;
+      std::array<double, 7> pose;
+      hypothesis.toParameters(pose.data());
+      std::array<double, 2> affine = {affine_guess.x(), affine_guess.y()};
+      std::vector<double> level_rmse(levels, std::numeric_limits<double>::infinity());
+      bool rejected = false;
+      Impl::LevelResult finest;
+      for (int level = levels - 1; level >= 0; --level) {
+        const Impl::LevelResult r = impl_->solveLevel(tag, model, level, frame, exposure,
+                                                      pose.data(), affine.data(), true);
+        level_rmse[level] = r.rmse;
+        finest = r;
+        if (!std::isfinite(r.rmse) ||
+            r.rmse > impl_->options.early_reject_factor * best_coarse_rmse[level]) {
+          rejected = true;
+          break;
+        }
+        best_coarse_rmse[level] = std::min(best_coarse_rmse[level], r.rmse);
+      }
+      if (rejected || finest.valid_fraction < impl_->options.min_valid_fraction) continue;
+      if (finest.rmse < best_final) {
+        best_final = finest.rmse;
+        best.ok = true;
+        best.T_frame_ref = SE3d::fromParameters(pose.data());
+        best.affine = Eigen::Vector2d(affine[0], affine[1]);
+        best.level_rmse = level_rmse;
+        best.rmse = finest.rmse;
+        best.valid_fraction = finest.valid_fraction;
+      }
+      if (best.ok && std::isfinite(previous_rmse) &&
+          best.rmse < impl_->options.good_enough_factor * previous_rmse)
+        break;
+    }
+    if (best.ok) impl_->flow(tag, model, best.T_frame_ref, &best);
+  });
+  return best;
+}
+
+}  // namespace omnidso
