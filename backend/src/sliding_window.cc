@@ -227,10 +227,27 @@ int SlidingWindow::removeOutliers() {
   return removed;
 }
 
+std::vector<MarginalizedPoint> SlidingWindow::takeMarginalizedPoints() {
+  std::vector<MarginalizedPoint> out;
+  out.swap(marginalized_points_);
+  return out;
+}
+
+void SlidingWindow::recordMarginalized(const WindowPoint& point) {
+  if (!(point.inverse_distance > 0.0)) return;  // at infinity: no position to keep
+  Eigen::Vector3d bearing;
+  if (!factory_->unproject(intrinsics_, point.pixel, bearing)) return;
+  MarginalizedPoint m;
+  m.position_world = keyframe(point.host_id).T_world_cam() * (bearing / point.inverse_distance);
+  m.intensity = static_cast<float>(point.patch.intensity[4]);  // offset (0, 0) of DSO's pattern
+  marginalized_points_.push_back(m);
+}
+
 void SlidingWindow::removePoint(int id, bool marginalize) {
   WindowPoint& point = mutablePoint(id);
   double* block = &point.inverse_distance;
   if (marginalize && !point.residuals.empty()) {
+    recordMarginalized(point);
     if (marginalizer_.marginalize(*problem_, {block})) has_prior_ = true;
     if (id == scale_anchor_point_id_) scale_fixed_by_prior_ = true;
   } else {
@@ -287,6 +304,7 @@ void SlidingWindow::marginalizeKeyframe(int id) {
     } else {
       to_marginalize.push_back(&point->inverse_distance);
       marginalized_ids.push_back(pid);
+      recordMarginalized(*point);
     }
   }
   if (!to_marginalize.empty() && marginalizer_.marginalize(*problem_, to_marginalize))

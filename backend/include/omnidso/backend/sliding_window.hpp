@@ -81,6 +81,12 @@ struct WindowPoint {
   std::map<int, ceres::ResidualBlockId> residuals;  // by target keyframe id
 };
 
+// A point as it left the window by marginalisation: its last estimate, in the world.
+struct MarginalizedPoint {
+  Eigen::Vector3d position_world;
+  float intensity = 0.f;  // host intensity at the point's pixel
+};
+
 struct WindowSolveSummary {
   int iterations = 0;
   double initial_cost = 0.0;
@@ -131,6 +137,8 @@ class SlidingWindow {
   // World position of an active point (host pose · bearing / inverse distance).
   Eigen::Vector3d pointInWorld(const WindowPoint& point) const;
   bool hasPrior() const { return has_prior_; }
+  // Points marginalised since the last call (for the map the odometry writes out).
+  std::vector<MarginalizedPoint> takeMarginalizedPoints();
 
   // Test access: set the state directly (e.g. to perturb it).
   WindowKeyframe& mutableKeyframe(int id);
@@ -142,6 +150,7 @@ class SlidingWindow {
   WindowObservation observation(const WindowPoint& point, const WindowKeyframe& target) const;
   void removePoint(int id, bool marginalize);
   void fixGaugeBeforeFirstSolve();
+  void recordMarginalized(const WindowPoint& point);
 
   WindowOptions options_;
   std::unique_ptr<PhotometricResidualFactory> factory_;
@@ -157,6 +166,7 @@ class SlidingWindow {
   int scale_anchor_point_id_ = -1;
   bool has_prior_ = false;
   bool scale_fixed_by_prior_ = false;
+  std::vector<MarginalizedPoint> marginalized_points_;
 };
 
 }  // namespace omnidso

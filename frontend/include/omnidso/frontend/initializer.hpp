@@ -1,0 +1,67 @@
+#pragma once
+// Two-frame photometric initialisation, coarse to fine (DSO's coarse initialiser; paper
+// Sec. V): candidate pixels of the first frame start at inverse distance 1; every following
+// frame is aligned to the first by jointly optimising the relative pose, the frame's affine
+// brightness and every point's inverse distance — photometric residuals (eq. 5–7) in one
+// Ceres problem per pyramid level, coarse to fine, starting from the previous frame's
+// solution. While the baseline is too small to observe distances, a weak regulariser
+//   r_reg = √λ · (d − d̄)        (d̄ the mean inverse distance of the points)
+// keeps them together (DSO regularises towards neighbours the same way).
+// The initialisation succeeds once the RMS pixel shift the translation alone causes
+// (parallax) exceeds `min_parallax_px` with a small enough error; the scale is then set so
+// that the mean inverse distance is 1. With a camera standing still it never succeeds, and
+// says so (status()).
+
+#include <Eigen/Core>
+#include <memory>
+#include <omnidso/cameras/camera.hpp>
+#include <omnidso/core/pyramid.hpp>
+#include <omnidso/core/se3.hpp>
+#include <omnidso/frontend/pixel_selector.hpp>
+#include <string>
+#include <vector>
+
+namespace omnidso {
+
+struct InitializerOptions {
+  int num_levels = 5;
+  int max_iterations_per_level = 8;
+  double regularizer_weight = 50.0;    // λ, intensity² per (inverse distance)²
+  double min_parallax_px = 0.0;        // 0: use 0.01 · (w + h)
+  double max_rmse = 15.0;              // intensity units per residual pixel
+  int min_points = 50;
+  int max_frames = 60;                 // give up (and restart from a newer frame) after this
+  double huber_threshold = 9.0;
+  PixelSelectorOptions selection;
+};
+
+struct InitializationResult {
+  bool done = false;
+  SE3d T_frame_first;                               // scale: mean inverse distance 1
+  Eigen::Vector2d frame_affine = Eigen::Vector2d::Zero();
+  std::vector<Eigen::Vector2d> pixels;              // level 0, first frame
+  std::vector<double> inverse_distances;
+  double parallax_px = 0.0;
+  double rmse = 0.0;
+};
+
+class Initializer {
+ public:
+  Initializer(const Camera& camera, const Mask& mask, InitializerOptions options = {});
+  ~Initializer();
+
+  // The first frame (photometrically corrected) and its exposure.
+  void setFirstFrame(std::shared_ptr<const ImagePyramid> pyramid, double exposure);
+  bool hasFirstFrame() const;
+  int numFramesTried() const;
+  // Aligns a new frame to the first; done when the baseline suffices.
+  InitializationResult addFrame(const ImagePyramid& frame, double exposure);
+  // A human-readable account of the last attempt (why it is not done yet).
+  const std::string& status() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace omnidso

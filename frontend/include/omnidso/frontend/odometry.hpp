@@ -1,0 +1,102 @@
+#pragma once
+// The Odometry facade: frames in, poses, points and timings out (paper Fig. 3; DSO's
+// pipeline). One frame:
+//   1. not initialised: the Initializer aligns it to the first frame; once the baseline
+//      suffices, both become keyframes of the window with the initial points;
+//   2. CoarseTracker: align to the newest keyframe's points, coarse to fine → pose, affine;
+//      tracking failure ends the segment: say so, re-initialise from the next frames;
+//   3. every window keyframe's immature points are searched along their epipolar curves;
+//   4. keyframe decision: no → done;
+//   5. yes: SlidingWindow::addKeyframe → activate converged immature points → optimise →
+//      remove outliers → marginalise (policy of Sec. V-C) → new immature points → new
+//      tracking reference.
+// Deterministic: single-threaded, and the only randomness (pixel selection directions) is
+// seeded from OdometryOptions::seed, so the same input gives the same trajectory bit for bit.
+
+#include <Eigen/Core>
+#include <memory>
+#include <omnidso/backend/sliding_window.hpp>
+#include <omnidso/cameras/camera.hpp>
+#include <omnidso/frontend/coarse_tracker.hpp>
+#include <omnidso/frontend/epipolar_search.hpp>
+#include <omnidso/frontend/initializer.hpp>
+#include <omnidso/frontend/keyframe_decision.hpp>
+#include <omnidso/frontend/pixel_selector.hpp>
+#include <string>
+#include <vector>
+
+namespace omnidso {
+
+struct OdometryOptions {
+  int num_points = 2000;         // active points aimed at in the window
+  int num_candidates = 2000;     // immature points selected per keyframe
+  int pyramid_levels = 5;
+  std::uint64_t seed = 0;
+  WindowOptions window;
+  CoarseTrackerOptions tracker;
+  EpipolarSearchOptions epipolar;        // max_search_px 0 → 0.027 (w + h)
+  KeyframeDecisionOptions keyframe_decision;
+  KeyframeMarginalizationOptions marginalization;
+  InitializerOptions initializer;
+  double max_activation_interval_px = 8.0;  // immature point converged enough to activate
+  double min_activation_quality = 3.0;
+  int max_keyframe_interval_frames = 0;      // > 0: force a keyframe after this many frames
+};
+
+struct FrameTiming {
+  double tracking_ms = 0.0;  // tracking + epipolar search
+  double mapping_ms = 0.0;   // window optimisation + marginalisation (keyframes only)
+};
+
+struct FrameRecord {
+  int index = 0;
+  double timestamp = 0.0;
+  bool tracked = false;      // has a pose (initialised and tracked)
+  bool is_keyframe = false;
+  int segment = 0;           // increases after every re-initialisation
+  int reference_keyframe = -1;
+  SE3d T_frame_ref;          // pose relative to its reference keyframe
+  FrameTiming timing;
+};
+
+struct KeyframeRecord {
+  int id = 0;  // = frame index
+  double timestamp = 0.0;
+  int segment = 0;
+  SE3d T_world_cam;  // latest estimate (final once marginalised)
+};
+
+struct OdometryPoint {
+  Eigen::Vector3d position_world;
+  float intensity = 0.f;
+  int segment = 0;
+};
+
+class Odometry {
+ public:
+  // camera: distortion-free model (pinhole, ucm, eucm, ds, kb4) of the images passed in.
+  Odometry(const Camera& camera, OdometryOptions options = {});
+  ~Odometry();
+
+  // image: photometrically corrected intensities (0..255 scale), camera-sized.
+  // exposure: t, any unit consistent over the sequence (1 when unknown).
+  const FrameRecord& addFrame(const ImageF& image, double timestamp, double exposure);
+
+  const std::vector<FrameRecord>& frames() const;
+  // T_world_cam of a frame through the latest estimate of its reference keyframe.
+  SE3d framePose(const FrameRecord& frame) const;
+  std::vector<KeyframeRecord> keyframes() const;
+  std::vector<OdometryPoint> points() const;  // marginalised and active points
+  bool initialized() const;
+  int numSegments() const;
+  // Events a user should see: initialisation, tracking loss, re-initialisation.
+  const std::vector<std::string>& log() const;
+  // Why the current segment is not initialised yet (empty once it is).
+  std::string initializationStatus() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace omnidso

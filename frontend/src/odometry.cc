@@ -1,0 +1,387 @@
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <omnidso/core/error.hpp>
+#include <omnidso/core/timing.hpp>
+#include <omnidso/frontend/odometry.hpp>
+#include <sstream>
+
+namespace omnidso {
+
+struct Odometry::Impl {
+  Camera camera;
+  Mask mask;
+  OdometryOptions options;
+
+  std::unique_ptr<SlidingWindow> window;
+  std::unique_ptr<CoarseTracker> tracker;
+  std::unique_ptr<Initializer> initializer;
+  std::map<int, std::vector<ImmaturePoint>> immature;  // by host keyframe
+
+  std::vector<FrameRecord> frames;
+  std::map<int, KeyframeRecord> keyframes;  // every keyframe ever; poses kept current
+  std::vector<OdometryPoint> points;        // marginalised points
+  std::vector<std::string> log;
+
+  bool initialized = false;
+  int segment = 0;
+  int first_frame_index = -1;
+  std::shared_ptr<const ImagePyramid> first_pyramid;
+  double first_exposure = 1.0;
+  int reference_id = -1;
+  double last_rmse = std::numeric_limits<double>::infinity();
+  double first_rmse = std::numeric_limits<double>::infinity();  // since the newest keyframe
+  SE3d T_world_last, T_world_prev;
+  int frames_tracked = 0;
+  Eigen::Vector2d last_affine = Eigen::Vector2d::Zero();
+  int frames_since_keyframe = 0;
+
+  Impl(const Camera& c, OdometryOptions o)
+      : camera(c), mask(validityMask(c)), options(std::move(o)) {
+    if (options.epipolar.max_search_px <= 0)
+      options.epipolar.max_search_px = 0.027 * (camera.width() + camera.height());
+    options.window.num_threads = std::max(1, options.window.num_threads);
+    newInitializer();
+  }
+
+  void newInitializer() {
+    InitializerOptions init = options.initializer;
+    init.num_levels = options.pyramid_levels;
+    init.selection.desired_points = options.num_points;
+    init.selection.seed = options.seed;
+    initializer = std::make_unique<Initializer>(camera, mask, init);
+  }
+
+  SE3d keyframePose(int id) const {
+    if (window) {
+      for (int wid : window->keyframeIds())
+        if (wid == id) return window->keyframe(id).T_world_cam();
+    }
+    return keyframes.at(id).T_world_cam;
+  }
+
+  void say(const std::string& message) { log.push_back(message); }
+
+  // ---- keyframes -------------------------------------------------------------------
+  void selectImmaturePoints(int id, const ImagePyramid& pyramid) {
+    PixelSelectorOptions selection = options.initializer.selection;
+    selection.desired_points = options.num_candidates;
+    selection.seed = options.seed + static_cast<std::uint64_t>(id);
+    std::vector<ImmaturePoint>& list = immature[id];
+    for (const SelectedPixel& p : selectPixels(pyramid, mask, selection)) {
+      ImmaturePoint point;
+      if (makeImmaturePoint(camera, pyramid.level(0), id, p.pixel.cast<double>(), &point))
+        list.push_back(point);
+    }
+  }
+
+  void refreshKeyframeRecords() {
+    for (int id : window->keyframeIds()) keyframes[id].T_world_cam = window->keyframe(id).T_world_cam();
+  }
+
+  void collectMarginalizedPoints() {
+    for (const MarginalizedPoint& m : window->takeMarginalizedPoints())
+      points.push_back({m.position_world, m.intensity, segment});
+  }
+
+  void setTrackingReference(int id) {
+    const WindowKeyframe& kf = window->keyframe(id);
+    const SE3d T_kf_world = kf.T_world_cam().inverse();
+    std::vector<TrackingReferencePoint> refs;
+    for (const auto& [pid, point] : window->points()) {
+      if (!(point->inverse_distance > 0.0)) continue;
+      const Eigen::Vector3d x = T_kf_world * window->pointInWorld(*point);
+      Eigen::Vector2d u;
+      if (!camera.project(x, u)) continue;
+      refs.push_back({u, 1.0 / x.norm()});
+    }
+    tracker = std::make_unique<CoarseTracker>(camera, options.tracker);
+    tracker->setReference(kf.pyramid, kf.exposure, Eigen::Vector2d(kf.affine[0], kf.affine[1]), refs);
+    reference_id = id;
+    first_rmse = std::numeric_limits<double>::infinity();
+  }
+
+  void activatePoints(int newest_id) {
+    const WindowKeyframe& newest = window->keyframe(newest_id);
+    const SE3d T_newest_world = newest.T_world_cam().inverse();
+    // Occupancy grid in the newest keyframe: one point per cell keeps the map spread out.
+    const double valid_area = std::max(1.0, static_cast<double>(std::count_if(
+        mask.data(), mask.data() + mask.size(), [](std::uint8_t m) { return m != 0; })));
+    const double cell = std::max(2.0, std::sqrt(valid_area / std::max(1, options.num_points)));
+    const int gw = static_cast<int>(camera.width() / cell) + 1;
+    const int gh = static_cast<int>(camera.height() / cell) + 1;
+    std::vector<char> occupied(static_cast<size_t>(gw) * gh, 0);
+    auto cellOf = [&](const Eigen::Vector2d& u) {
+      return static_cast<size_t>(static_cast<int>(u.y() / cell)) * gw +
+             static_cast<size_t>(static_cast<int>(u.x() / cell));
+    };
+    for (const auto& [pid, point] : window->points()) {
+      if (!(point->inverse_distance > 0.0)) continue;
+      Eigen::Vector2d u;
+      if (camera.project(T_newest_world * window->pointInWorld(*point), u)) occupied[cellOf(u)] = 1;
+    }
+    for (auto& [host_id, list] : immature) {
+      const SE3d T_world_host = window->keyframe(host_id).T_world_cam();
+      std::vector<ImmaturePoint> keep;
+      for (ImmaturePoint& p : list) {
+        const bool converged = p.num_good_traces > 0 &&
+                               (p.last_status == TraceStatus::kGood ||
+                                p.last_status == TraceStatus::kSkipped) &&
+                               p.last_interval_px <= options.max_activation_interval_px &&
+                               p.quality >= options.min_activation_quality;
+        const double d = p.inverseDistanceEstimate();
+        if (!converged || window->numPoints() >= options.num_points || !(d > 0.0)) {
+          keep.push_back(p);
+          continue;
+        }
+        Eigen::Vector2d u;
+        const Eigen::Vector3d x = T_newest_world * (T_world_host * (p.bearing / d));
+        if (camera.project(x, u)) {
+          if (occupied[cellOf(u)]) {
+            keep.push_back(p);
+            continue;
+          }
+          occupied[cellOf(u)] = 1;
+        }
+        if (window->addPoint(host_id, p.pixel, d) < 0) continue;  // no valid residual: drop
+      }
+      list.swap(keep);
+    }
+  }
+
+  void makeKeyframe(FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,
+                    double exposure, const SE3d& T_world_frame, const Eigen::Vector2d& affine) {
+    window->addKeyframe(record.index, record.timestamp, exposure, T_world_frame, affine, pyramid);
+    keyframes[record.index] = {record.index, record.timestamp, segment, T_world_frame};
+    activatePoints(record.index);
+    window->optimize();
+    window->removeOutliers();
+    refreshKeyframeRecords();
+    for (int id : window->keyframesToMarginalize(options.marginalization)) {
+      window->marginalizeKeyframe(id);
+      immature.erase(id);
+    }
+    collectMarginalizedPoints();
+    selectImmaturePoints(record.index, *pyramid);
+    setTrackingReference(record.index);
+    record.is_keyframe = true;
+    record.reference_keyframe = record.index;
+    record.T_frame_ref = SE3d();
+    last_affine = Eigen::Vector2d(window->keyframe(record.index).affine[0],
+                                  window->keyframe(record.index).affine[1]);
+    T_world_last = window->keyframe(record.index).T_world_cam();
+    frames_since_keyframe = 0;
+  }
+
+  // ---- initialisation --------------------------------------------------------------
+  void initialize(FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,
+                  double exposure) {
+    if (!initializer->hasFirstFrame()) {
+      initializer->setFirstFrame(pyramid, exposure);
+      first_frame_index = record.index;
+      first_pyramid = pyramid;
+      first_exposure = exposure;
+      return;
+    }
+    const InitializationResult init = initializer->addFrame(*pyramid, exposure);
+    if (!init.done) {
+      if (initializer->numFramesTried() >= options.initializer.max_frames) {
+        say("initialisation: no sufficient parallax after " +
+            std::to_string(initializer->numFramesTried()) + " frames (" + initializer->status() +
+            "); restarting from frame " + std::to_string(record.index));
+        initializer->setFirstFrame(pyramid, exposure);
+        first_frame_index = record.index;
+        first_pyramid = pyramid;
+        first_exposure = exposure;
+      }
+      return;
+    }
+    window = std::make_unique<SlidingWindow>(camera.modelName(), camera.params(), options.window);
+    FrameRecord& first = frames[first_frame_index];
+    window->addKeyframe(first.index, first.timestamp, first_exposure, SE3d(),
+                        Eigen::Vector2d::Zero(), first_pyramid);
+    keyframes[first.index] = {first.index, first.timestamp, segment, SE3d()};
+    first.tracked = true;
+    first.is_keyframe = true;
+    first.segment = segment;
+    first.reference_keyframe = first.index;
+    const SE3d T_world_frame = init.T_frame_first.inverse();
+    window->addKeyframe(record.index, record.timestamp, exposure, T_world_frame,
+                        init.frame_affine, pyramid);
+    keyframes[record.index] = {record.index, record.timestamp, segment, T_world_frame};
+    for (size_t i = 0; i < init.pixels.size(); ++i)
+      window->addPoint(first.index, init.pixels[i], init.inverse_distances[i]);
+    window->optimize();
+    window->removeOutliers();
+    refreshKeyframeRecords();
+    selectImmaturePoints(record.index, *pyramid);
+    setTrackingReference(record.index);
+    record.tracked = true;
+    record.is_keyframe = true;
+    record.reference_keyframe = record.index;
+    last_affine = Eigen::Vector2d(window->keyframe(record.index).affine[0],
+                                  window->keyframe(record.index).affine[1]);
+    T_world_prev = window->keyframe(first.index).T_world_cam();
+    T_world_last = window->keyframe(record.index).T_world_cam();
+    initialized = true;
+    std::ostringstream m;
+    m << "segment " << segment << ": initialised at frame " << record.index << " from frame "
+      << first.index << " (parallax " << init.parallax_px << " px, " << window->numPoints()
+      << " points)";
+    say(m.str());
+  }
+
+  void loseTracking(const FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,
+                    double exposure) {
+    say("segment " + std::to_string(segment) + ": tracking lost at frame " +
+        std::to_string(record.index) + "; re-initialising");
+    refreshKeyframeRecords();
+    for (const auto& [pid, point] : window->points())
+      if (point->inverse_distance > 0.0)
+        points.push_back({window->pointInWorld(*point),
+                          static_cast<float>(point->patch.intensity[4]), segment});
+    window.reset();
+    tracker.reset();
+    immature.clear();
+    initialized = false;
+    ++segment;
+    newInitializer();
+    initializer->setFirstFrame(pyramid, exposure);
+    first_frame_index = record.index;
+    first_pyramid = pyramid;
+    first_exposure = exposure;
+    last_rmse = std::numeric_limits<double>::infinity();
+  }
+
+  // ---- tracking --------------------------------------------------------------------
+  void trackFrame(FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,
+                  double exposure) {
+    Stopwatch watch;
+    const WindowKeyframe& ref = window->keyframe(reference_id);
+    const SE3d T_ref_world = ref.T_world_cam().inverse();
+    const SE3d T_last_ref = (T_ref_world * T_world_last).inverse();
+    const SE3d velocity = T_world_last.inverse() * T_world_prev;  // T_last_prev
+    const TrackingResult tracking = tracker->track(
+        *pyramid, exposure, tracker->makeHypotheses(T_last_ref, velocity), last_affine, last_rmse);
+    if (!tracking.ok) {
+      loseTracking(record, pyramid, exposure);
+      record.timing.tracking_ms = watch.elapsedMs();
+      return;
+    }
+    const SE3d T_world_frame = ref.T_world_cam() * tracking.T_frame_ref.inverse();
+    record.tracked = true;
+    record.reference_keyframe = reference_id;
+    record.T_frame_ref = tracking.T_frame_ref;
+    last_rmse = tracking.rmse;
+    if (!std::isfinite(first_rmse)) first_rmse = tracking.rmse;
+
+    // Epipolar-curve search of every window keyframe's immature points in this frame.
+    const SE3d T_frame_world = T_world_frame.inverse();
+    for (auto& [host_id, list] : immature) {
+      const WindowKeyframe& host = window->keyframe(host_id);
+      const SE3d T_frame_host = T_frame_world * host.T_world_cam();
+      AffineTransfer transfer;
+      transfer.a = exposure * std::exp(tracking.affine.x()) / (host.exposure * std::exp(host.affine[0]));
+      transfer.b = tracking.affine.y() - transfer.a * host.affine[1];
+      std::vector<ImmaturePoint> keep;
+      keep.reserve(list.size());
+      for (ImmaturePoint& p : list) {
+        const TraceResult r = traceImmaturePoint(p, camera, T_frame_host, pyramid->level(0),
+                                                 pyramid->gradients(0), transfer, options.epipolar);
+        if (r.status == TraceStatus::kOutlier || r.status == TraceStatus::kOutOfBounds) continue;
+        keep.push_back(p);
+      }
+      list.swap(keep);
+    }
+    record.timing.tracking_ms = watch.lapMs();
+
+    const double brightness = exposure * std::exp(tracking.affine.x()) /
+                              (ref.exposure * std::exp(ref.affine[0]));
+    const KeyframeDecision decision =
+        decideKeyframe(tracking, brightness, first_rmse, camera.width(), camera.height(),
+                       options.keyframe_decision);
+    T_world_prev = T_world_last;
+    T_world_last = T_world_frame;
+    last_affine = tracking.affine;
+    ++frames_since_keyframe;
+    const bool forced = options.max_keyframe_interval_frames > 0 &&
+                        frames_since_keyframe >= options.max_keyframe_interval_frames;
+    if (decision.make_keyframe || forced) {
+      makeKeyframe(record, pyramid, exposure, T_world_frame, tracking.affine);
+      record.timing.mapping_ms = watch.lapMs();
+    }
+  }
+};
+
+Odometry::Odometry(const Camera& camera, OdometryOptions options)
+    : impl_(std::make_unique<Impl>(camera, std::move(options))) {
+  if (camera.hasDistortion())
+    throw Error("Odometry: camera model '" + camera.modelName() +
+                "' has distortion; rectify the images to '" +
+                camera.undistortedModel().modelName() + "' first");
+}
+
+Odometry::~Odometry() = default;
+
+const FrameRecord& Odometry::addFrame(const ImageF& image, double timestamp, double exposure) {
+  Impl& s = *impl_;
+  if (image.width() != s.camera.width() || image.height() != s.camera.height())
+    throw Error("Odometry::addFrame: image is " + std::to_string(image.width()) + "x" +
+                std::to_string(image.height()) + ", the camera " +
+                std::to_string(s.camera.width()) + "x" + std::to_string(s.camera.height()));
+  if (!(exposure > 0.0) || !std::isfinite(exposure))
+    throw Error("Odometry::addFrame: exposure must be positive (got " + std::to_string(exposure) + ")");
+  FrameRecord record;
+  record.index = static_cast<int>(s.frames.size());
+  record.timestamp = timestamp;
+  record.segment = s.segment;
+  s.frames.push_back(record);
+  FrameRecord& current = s.frames.back();
+  auto pyramid = std::make_shared<const ImagePyramid>(image, s.options.pyramid_levels);
+  Stopwatch watch;
+  if (!s.initialized) {
+    s.initialize(current, pyramid, exposure);
+    current.timing.mapping_ms = watch.elapsedMs();
+  } else {
+    s.trackFrame(current, pyramid, exposure);
+  }
+  current.segment = current.tracked ? current.segment : s.segment;
+  return current;
+}
+
+const std::vector<FrameRecord>& Odometry::frames() const { return impl_->frames; }
+
+SE3d Odometry::framePose(const FrameRecord& frame) const {
+  if (!frame.tracked) throw Error("Odometry::framePose: frame " + std::to_string(frame.index) + " has no pose");
+  return impl_->keyframePose(frame.reference_keyframe) * frame.T_frame_ref.inverse();
+}
+
+std::vector<KeyframeRecord> Odometry::keyframes() const {
+  std::vector<KeyframeRecord> out;
+  for (const auto& [id, kf] : impl_->keyframes) {
+    KeyframeRecord r = kf;
+    r.T_world_cam = impl_->keyframePose(id);
+    out.push_back(r);
+  }
+  return out;
+}
+
+std::vector<OdometryPoint> Odometry::points() const {
+  std::vector<OdometryPoint> out = impl_->points;
+  if (impl_->window)
+    for (const auto& [pid, point] : impl_->window->points())
+      if (point->inverse_distance > 0.0)
+        out.push_back({impl_->window->pointInWorld(*point),
+                       static_cast<float>(point->patch.intensity[4]), impl_->segment});
+  return out;
+}
+
+bool Odometry::initialized() const { return impl_->initialized; }
+int Odometry::numSegments() const { return impl_->segment + 1; }
+const std::vector<std::string>& Odometry::log() const { return impl_->log; }
+
+std::string Odometry::initializationStatus() const {
+  return impl_->initialized ? std::string() : impl_->initializer->status();
+}
+
+}  // namespace omnidso
