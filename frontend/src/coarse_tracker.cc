@@ -9,6 +9,30 @@
 #include <omnidso/residuals/tracking_residual.hpp>
 
 namespace omnidso {
+namespace {
+
+// ½ w_a (a − a₀)² + ½ w_b (b − b₀)²: the affine prior of CoarseTrackerOptions.
+class AffinePrior final : public ceres::SizedCostFunction<2, 2> {
+ public:
+  AffinePrior(const Eigen::Vector2d& mean, double weight_a, double weight_b)
+      : mean_(mean), sqrt_w_(std::sqrt(weight_a), std::sqrt(weight_b)) {}
+  bool Evaluate(double const* const* x, double* r, double** J) const override {
+    r[0] = sqrt_w_[0] * (x[0][0] - mean_[0]);
+    r[1] = sqrt_w_[1] * (x[0][1] - mean_[1]);
+    if (J && J[0]) {
+      J[0][0] = sqrt_w_[0];
+      J[0][1] = 0.0;
+      J[0][2] = 0.0;
+      J[0][3] = sqrt_w_[1];
+    }
+    return true;
+  }
+
+ private:
+  Eigen::Vector2d mean_, sqrt_w_;
+};
+
+}  // namespace
 
 struct CoarseTracker::Impl {
   Camera camera;
@@ -53,13 +77,17 @@ struct CoarseTracker::Impl {
       problem.AddParameterBlock(pose, 7, const_cast<SE3Manifold*>(&manifold));
       problem.AddParameterBlock(frame_affine, 2);
       const double* params_ptr[] = {pose, frame_affine};
-      double r;
+      double r[2];  // one residual; sized so that no cost function type can overrun it
       int added = 0;
       for (auto& cost : costs) {
-        if (!cost->Evaluate(params_ptr, &r, nullptr)) continue;  // starts invalid: left out
+        if (!cost->Evaluate(params_ptr, r, nullptr)) continue;  // starts invalid: left out
         problem.AddResidualBlock(cost.get(), &loss, pose, frame_affine);
         ++added;
       }
+      AffinePrior prior(Eigen::Vector2d(frame_affine[0], frame_affine[1]),
+                        options.affine_prior_weight_a, options.affine_prior_weight_b);
+      if (options.affine_prior_weight_a > 0 || options.affine_prior_weight_b > 0)
+        problem.AddResidualBlock(&prior, nullptr, frame_affine);
       if (added >= 8) {
         ceres::Solver::Options so;
         so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
@@ -77,8 +105,9 @@ struct CoarseTracker::Impl {
     double sum = 0.0;
     int valid = 0;
     for (auto& cost : costs) {
-      double r;
-      if (!cost->Evaluate(params_ptr, &r, nullptr)) continue;
+      double residual[2];  // see above
+      if (!cost->Evaluate(params_ptr, residual, nullptr)) continue;
+      const double r = residual[0];
       // Huber-clamped so that a few outliers do not dominate the error (DSO does the same).
       const double a = std::abs(r);
       sum += a <= options.huber_threshold ? r * r

@@ -36,8 +36,16 @@ struct Odometry::Impl {
   Eigen::Vector2d last_affine = Eigen::Vector2d::Zero();
   int frames_since_keyframe = 0;
 
-  Impl(const Camera& c, OdometryOptions o)
+  Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
       : camera(c), mask(validityMask(c)), options(std::move(o)) {
+    if (!image_mask.empty()) {
+      if (image_mask.width() != c.width() || image_mask.height() != c.height())
+        throw Error("Odometry: the image mask is " + std::to_string(image_mask.width()) + "x" +
+                    std::to_string(image_mask.height()) + ", the camera " +
+                    std::to_string(c.width()) + "x" + std::to_string(c.height()));
+      for (size_t i = 0; i < mask.size(); ++i)
+        if (!image_mask.data()[i]) mask.data()[i] = 0;
+    }
     if (options.epipolar.max_search_px <= 0)
       options.epipolar.max_search_px = 0.027 * (camera.width() + camera.height());
     options.window.num_threads = std::max(1, options.window.num_threads);
@@ -313,8 +321,8 @@ struct Odometry::Impl {
   }
 };
 
-Odometry::Odometry(const Camera& camera, OdometryOptions options)
-    : impl_(std::make_unique<Impl>(camera, std::move(options))) {
+Odometry::Odometry(const Camera& camera, OdometryOptions options, const Mask& image_mask)
+    : impl_(std::make_unique<Impl>(camera, std::move(options), image_mask)) {
   if (camera.hasDistortion())
     throw Error("Odometry: camera model '" + camera.modelName() +
                 "' has distortion; rectify the images to '" +

@@ -39,6 +39,13 @@ struct CoarseTrackerOptions {
   double min_valid_fraction = 0.3;
   double rotation_hypothesis_rad = 0.01;
   int num_threads = 1;
+  // Gaussian priors pulling the frame's affine [a, b] towards the guess. With calibrated
+  // exposure times and response (DSO's photometric mode) the brightness model needs no
+  // correction, so DSO ties them almost rigidly: a free (a, b) otherwise absorbs the
+  // contrast loss of bilinear interpolation at high-gradient pixels (a few percent, a < 0).
+  // Weights in energy per unit²; set both to 0 for uncalibrated data (exposure unknown).
+  double affine_prior_weight_a = 1e8;
+  double affine_prior_weight_b = 1e6;
 };
 
 struct TrackingResult {

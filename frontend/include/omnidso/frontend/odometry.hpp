@@ -75,7 +75,9 @@ struct OdometryPoint {
 class Odometry {
  public:
   // camera: distortion-free model (pinhole, ucm, eucm, ds, kb4) of the images passed in.
-  Odometry(const Camera& camera, OdometryOptions options = {});
+  // image_mask (optional, camera-sized): pixels without image content (e.g. outside the
+  // source image after rectification); combined with the camera's own validity mask.
+  Odometry(const Camera& camera, OdometryOptions options = {}, const Mask& image_mask = Mask());
   ~Odometry();
 
   // image: photometrically corrected intensities (0..255 scale), camera-sized.
