@@ -3,8 +3,10 @@
 #include <ceres/solver.h>
 
 #include <algorithm>
+#include <omnidso/backend/affine_prior.hpp>
 #include <omnidso/backend/sliding_window.hpp>
 #include <omnidso/core/error.hpp>
+#include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/core/timing.hpp>
 #include <omnidso/residuals/residual_pattern.hpp>
 #include <omnidso/residuals/se3_manifold.hpp>
@@ -77,6 +79,10 @@ void SlidingWindow::addKeyframe(int id, double timestamp, double exposure,
   kf->pyramid = std::move(pyramid);
   problem_->AddParameterBlock(kf->pose.data(), 7, pose_manifold_.get());
   problem_->AddParameterBlock(kf->affine.data(), 2);
+  if (options_.affine_prior_weight_a > 0 || options_.affine_prior_weight_b > 0)
+    problem_->AddResidualBlock(new AffinePrior(Eigen::Vector2d::Zero(), options_.affine_prior_weight_a,
+                                               options_.affine_prior_weight_b),
+                               nullptr, kf->affine.data());
   if (anchor_keyframe_id_ < 0 && !has_prior_) {
     anchor_keyframe_id_ = id;  // gauge: pose and brightness offset
     problem_->SetParameterBlockConstant(kf->pose.data());
@@ -88,20 +94,37 @@ void SlidingWindow::addKeyframe(int id, double timestamp, double exposure,
     if (point->host_id != id) addResidual(*point, target);
 }
 
-WindowObservation SlidingWindow::observation(const WindowPoint& point,
-                                             const WindowKeyframe& target) const {
+std::optional<WindowObservation> SlidingWindow::observation(const WindowPoint& point,
+                                                           const WindowKeyframe& target,
+                                                           int level) const {
+  const WindowKeyframe& host = keyframe(point.host_id);
   WindowObservation obs;
-  obs.host = point.patch;
-  obs.target_image = &target.pyramid->level(0);
-  obs.host_exposure = keyframe(point.host_id).exposure;
+  if (level == 0) {
+    obs.host = point.patch;
+  } else {
+    // The host patch on level L: the level-0 pixel mapped by pyramid_scaling.hpp.
+    const ImageF& image = host.pyramid->level(level);
+    const Eigen::Vector2d pixel(pixelToLevel(point.pixel.x(), level),
+                                pixelToLevel(point.pixel.y(), level));
+    const double margin = patternRadius<kWindowPatternSize>() + 1.0;
+    if (!(pixel.x() >= margin && pixel.y() >= margin && pixel.x() <= image.width() - 1 - margin &&
+          pixel.y() <= image.height() - 1 - margin))
+      return std::nullopt;
+    obs.host = makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(level), pixel,
+                                                 options_.gradient_weight_c);
+  }
+  obs.target_image = &target.pyramid->level(level);
+  obs.host_exposure = host.exposure;
   obs.target_exposure = target.exposure;
-  obs.level = 0;
+  obs.level = level;
   return obs;
 }
 
-bool SlidingWindow::addResidual(WindowPoint& point, WindowKeyframe& target) {
+bool SlidingWindow::addResidual(WindowPoint& point, WindowKeyframe& target, int level) {
   WindowKeyframe& host = mutableKeyframe(point.host_id);
-  const WindowObservation obs = observation(point, target);
+  const std::optional<WindowObservation> maybe_obs = observation(point, target, level);
+  if (!maybe_obs) return false;
+  const WindowObservation& obs = *maybe_obs;
   std::vector<double*> blocks = {host.pose.data(),   target.pose.data(),  &point.inverse_distance,
                                  host.affine.data(), target.affine.data(), intrinsics_.data()};
   if (factory_->status(obs, blocks.data()) != PhotometricStatus::kValid) return false;
@@ -161,8 +184,74 @@ void SlidingWindow::fixGaugeBeforeFirstSolve() {
   problem_->SetParameterBlockConstant(&mutablePoint(best->id).inverse_distance);
 }
 
+int SlidingWindow::dropInvalidResiduals() {
+  int dropped = 0;
+  std::vector<int> emptied;
+  std::array<double, kWindowPatternSize> r;
+  for (auto& [pid, point] : points_) {
+    for (auto it = point->residuals.begin(); it != point->residuals.end();) {
+      double cost;
+      if (problem_->EvaluateResidualBlock(it->second, false, &cost, r.data(), nullptr)) {
+        ++it;
+        continue;
+      }
+      problem_->RemoveResidualBlock(it->second);
+      it = point->residuals.erase(it);
+      ++dropped;
+    }
+    if (point->residuals.empty()) emptied.push_back(pid);
+  }
+  for (int pid : emptied) removePoint(pid, false);
+  return dropped;
+}
+
 WindowSolveSummary SlidingWindow::optimize() {
+  // Ceres cannot start from a point where a residual cannot be evaluated: residuals whose
+  // projection has left the image (or the model's domain) since they were made are dropped,
+  // as DSO drops out-of-bounds residuals.
+  dropInvalidResiduals();
   fixGaugeBeforeFirstSolve();
+  return solve();
+}
+
+void SlidingWindow::rebuildResiduals(int level,
+                                     const std::map<int, std::vector<int>>& targets_by_point) {
+  for (auto& [pid, point] : points_) {
+    for (const auto& [target, id] : point->residuals) problem_->RemoveResidualBlock(id);
+    point->residuals.clear();
+    for (int target : targets_by_point.at(pid)) addResidual(*point, mutableKeyframe(target), level);
+  }
+}
+
+WindowSolveSummary SlidingWindow::optimizeCoarseToFine(int num_levels) {
+  dropInvalidResiduals();
+  fixGaugeBeforeFirstSolve();
+  std::map<int, std::vector<int>> targets;
+  for (const auto& [pid, point] : points_)
+    for (const auto& [target, id] : point->residuals) targets[pid].push_back(target);
+  const int coarsest = std::min(num_levels, keyframes_.front()->pyramid->numLevels()) - 1;
+  WindowSolveSummary total;
+  total.initial_cost = std::numeric_limits<double>::quiet_NaN();
+  for (int level = coarsest; level >= 0; --level) {
+    rebuildResiduals(level, targets);
+    const WindowSolveSummary s = solve();
+    if (level == coarsest) total.initial_cost = s.initial_cost;
+    total.iterations += s.iterations;
+    total.solve_ms += s.solve_ms;
+    total.final_cost = s.final_cost;
+    total.usable = s.usable;
+    total.message = s.message;
+    total.linear_solver = s.linear_solver;
+  }
+  // Back on level 0: points that lost every residual on the way are dropped.
+  dropInvalidResiduals();
+  total.num_points = numPoints();
+  total.num_keyframes = numKeyframes();
+  total.num_residuals = numResiduals();
+  return total;
+}
+
+WindowSolveSummary SlidingWindow::solve() {
   WindowSolveSummary out;
   out.num_points = numPoints();
   out.num_keyframes = numKeyframes();
@@ -198,6 +287,7 @@ WindowSolveSummary SlidingWindow::optimize() {
   out.initial_cost = summary.initial_cost;
   out.final_cost = summary.final_cost;
   out.usable = summary.IsSolutionUsable();
+  out.message = summary.message;
   out.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
   return out;
 }

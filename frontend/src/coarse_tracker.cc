@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <omnidso/backend/affine_prior.hpp>
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/frontend/coarse_tracker.hpp>
 #include <omnidso/frontend/model_dispatch.hpp>
@@ -9,31 +10,6 @@
 #include <omnidso/residuals/tracking_residual.hpp>
 
 namespace omnidso {
-namespace {
-
-// ½ w_a (a − a₀)² + ½ w_b (b − b₀)²: the affine prior of CoarseTrackerOptions.
-class AffinePrior final : public ceres::SizedCostFunction<2, 2> {
- public:
-  AffinePrior(const Eigen::Vector2d& mean, double weight_a, double weight_b)
-      : mean_(mean), sqrt_w_(std::sqrt(weight_a), std::sqrt(weight_b)) {}
-  bool Evaluate(double const* const* x, double* r, double** J) const override {
-    r[0] = sqrt_w_[0] * (x[0][0] - mean_[0]);
-    r[1] = sqrt_w_[1] * (x[0][1] - mean_[1]);
-    if (J && J[0]) {
-      J[0][0] = sqrt_w_[0];
-      J[0][1] = 0.0;
-      J[0][2] = 0.0;
-      J[0][3] = sqrt_w_[1];
-    }
-    return true;
-  }
-
- private:
-  Eigen::Vector2d mean_, sqrt_w_;
-};
-
-}  // namespace
-
 struct CoarseTracker::Impl {
   Camera camera;
   CoarseTrackerOptions options;

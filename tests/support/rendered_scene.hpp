@@ -4,7 +4,10 @@
 // window, the tracker and the epipolar search that need real images with known geometry.
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <memory>
+#include <vector>
 #include <omnidso/cameras/camera.hpp>
 #include <omnidso/core/pyramid.hpp>
 #include <omnidso/synth/bearing_table.hpp>
@@ -32,15 +35,42 @@ class RenderedScene {
   const Camera& camera() const { return camera_; }
   const synth::Scene& scene() const { return scene_; }
 
-  ImageF render(const SE3d& T_world_cam) const {
+  // blur_sigma_px > 0: a Gaussian lens blur (real optics are never box-filter sharp; the
+  // renderer's textures have step edges whose aliasing makes the photometric energy rough).
+  ImageF render(const SE3d& T_world_cam, double blur_sigma_px = 0.0) const {
     ImageF image = renderer_->renderRadiance({T_world_cam});
     for (size_t i = 0; i < image.size(); ++i)
       image.data()[i] = static_cast<float>(kIntensityScale * image.data()[i]);
-    return image;
+    return blur_sigma_px > 0 ? gaussianBlur(image, blur_sigma_px) : image;
   }
 
-  std::shared_ptr<const ImagePyramid> renderPyramid(const SE3d& T_world_cam, int levels = 5) const {
-    return std::make_shared<const ImagePyramid>(render(T_world_cam), levels);
+  std::shared_ptr<const ImagePyramid> renderPyramid(const SE3d& T_world_cam, int levels = 5,
+                                                    double blur_sigma_px = 0.0) const {
+    return std::make_shared<const ImagePyramid>(render(T_world_cam, blur_sigma_px), levels);
+  }
+
+  // Separable Gaussian, borders clamped.
+  static ImageF gaussianBlur(const ImageF& in, double sigma) {
+    const int radius = static_cast<int>(std::ceil(3 * sigma));
+    std::vector<float> k(2 * radius + 1);
+    float sum = 0.f;
+    for (int i = -radius; i <= radius; ++i) sum += k[i + radius] = std::exp(-0.5f * i * i / float(sigma * sigma));
+    for (float& v : k) v /= sum;
+    const int w = in.width(), h = in.height();
+    ImageF tmp(w, h), out(w, h);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        float acc = 0.f;
+        for (int i = -radius; i <= radius; ++i) acc += k[i + radius] * in(std::clamp(u + i, 0, w - 1), v);
+        tmp(u, v) = acc;
+      }
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        float acc = 0.f;
+        for (int i = -radius; i <= radius; ++i) acc += k[i + radius] * tmp(u, std::clamp(v + i, 0, h - 1));
+        out(u, v) = acc;
+      }
+    return out;
   }
 
   // Distance along the unit bearing (camera frame) to the first surface.

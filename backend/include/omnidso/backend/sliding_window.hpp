@@ -36,6 +36,7 @@
 #include <array>
 #include <map>
 #include <memory>
+#include <optional>
 #include <omnidso/backend/keyframe_marginalization_policy.hpp>
 #include <omnidso/backend/marginalizer.hpp>
 #include <omnidso/backend/photometric_factory.hpp>
@@ -58,6 +59,10 @@ struct WindowOptions {
   double outlier_energy_per_pixel = 12.0 * 12.0;
   int min_residuals_per_point = 1;
   double huber_threshold = kDsoHuberThreshold;
+  // affine_prior.hpp: every keyframe's [a, b] tied to 0 (calibrated photometry, as DSO);
+  // 0 frees a parameter (uncalibrated data).
+  double affine_prior_weight_a = 1e8;
+  double affine_prior_weight_b = 1e6;
   double gradient_weight_c = kDsoGradientWeightC;
 };
 
@@ -97,6 +102,7 @@ struct WindowSolveSummary {
   int num_keyframes = 0;
   bool usable = false;
   std::string linear_solver;
+  std::string message;  // Ceres's termination message
 };
 
 class SlidingWindow {
@@ -117,6 +123,10 @@ class SlidingWindow {
   int addPoint(int host_id, const Eigen::Vector2d& pixel, double inverse_distance);
 
   WindowSolveSummary optimize();
+  // Coarse to fine: the same problem with every photometric residual evaluated on pyramid
+  // levels num_levels−1 … 0 in turn (host patch and target image of that level, intrinsics
+  // scaled), widening the convergence basin for large initial errors.
+  WindowSolveSummary optimizeCoarseToFine(int num_levels);
   // Removes outlier residuals, then points left with too few residuals. Returns the number
   // of residuals removed.
   int removeOutliers();
@@ -146,9 +156,13 @@ class SlidingWindow {
   Eigen::VectorXd& mutableIntrinsics() { return intrinsics_; }
 
  private:
-  bool addResidual(WindowPoint& point, WindowKeyframe& target);
-  WindowObservation observation(const WindowPoint& point, const WindowKeyframe& target) const;
+  bool addResidual(WindowPoint& point, WindowKeyframe& target, int level = 0);
+  std::optional<WindowObservation> observation(const WindowPoint& point,
+                                               const WindowKeyframe& target, int level) const;
+  void rebuildResiduals(int level, const std::map<int, std::vector<int>>& targets_by_point);
+  WindowSolveSummary solve();
   void removePoint(int id, bool marginalize);
+  int dropInvalidResiduals();
   void fixGaugeBeforeFirstSolve();
   void recordMarginalized(const WindowPoint& point);
 

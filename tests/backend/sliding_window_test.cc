@@ -1,0 +1,169 @@
+// The sliding window on rendered scenes: perturbed keyframes, points, affine parameters and
+// intrinsics are brought back to ground truth by one window optimisation (paper Sec. V-A).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <omnidso/backend/sliding_window.hpp>
+#include <omnidso/synth/synthetic_sequence.hpp>
+#include <random>
+
+#include "support/rendered_scene.hpp"
+
+namespace omnidso {
+namespace {
+
+// A lens-like blur of 1 px: see RenderedScene::render.
+constexpr double kBlurSigmaPx = 1.0;
+
+struct WindowScene {
+  test::RenderedScene scene;
+  std::vector<SE3d> poses;  // ground truth T_world_cam
+  std::vector<std::shared_ptr<const ImagePyramid>> images;
+
+  WindowScene(const Camera& camera, int num_keyframes)
+      : scene(camera, 5) {
+    const SE3d start = scene.centralPose();
+    for (int k = 0; k < num_keyframes; ++k) {
+      poses.push_back(test::moveInCamera(start, {0.06 * k, 0.01 * k, 0.04 * k}, {0.5 * k, 4.0 * k, 0.0}));
+      images.push_back(scene.renderPyramid(poses.back(), 5, kBlurSigmaPx));
+    }
+  }
+};
+
+// The strongest-gradient valid pixel of every cell × cell block (a simple stand-in for the
+// frontend's pixel selector, which the backend does not depend on).
+std::vector<Eigen::Vector2i> gradientPixels(const ImagePyramid& image, const Mask& mask, int cell) {
+  const ImageGradients& g = image.gradients(0);
+  std::vector<Eigen::Vector2i> out;
+  for (int v0 = 4; v0 + cell < g.dx.height() - 4; v0 += cell)
+    for (int u0 = 4; u0 + cell < g.dx.width() - 4; u0 += cell) {
+      float best = 20.f;  // intensity units per pixel: textured, not flat
+      Eigen::Vector2i arg(-1, -1);
+      for (int v = v0; v < v0 + cell; ++v)
+        for (int u = u0; u < u0 + cell; ++u) {
+          const float m = std::hypot(g.dx(u, v), g.dy(u, v));
+          if (mask(u, v) && m > best) {
+            best = m;
+            arg = {u, v};
+          }
+        }
+      if (arg.x() >= 0) out.push_back(arg);
+    }
+  return out;
+}
+
+struct Errors {
+  double max_translation_m = 0, max_rotation_deg = 0, median_inverse_distance_rel = 0;
+  double max_intrinsics_rel = 0;
+};
+
+// Translation errors after fixing the one gauge freedom left by the comparison: the scale
+// (the window holds one point's inverse distance constant, and that point was perturbed).
+Errors compare(const SlidingWindow& window, const WindowScene& ws, const Eigen::VectorXd& truth_intrinsics,
+               const std::map<int, double>& true_inverse_distance) {
+  Errors e;
+  const Eigen::Vector3d origin_est = window.keyframe(0).T_world_cam().translation();
+  const Eigen::Vector3d origin_gt = ws.poses[0].translation();
+  double num = 0, den = 0;
+  for (int k = 1; k < static_cast<int>(ws.poses.size()); ++k) {
+    const Eigen::Vector3d a = window.keyframe(k).T_world_cam().translation() - origin_est;
+    const Eigen::Vector3d b = ws.poses[k].translation() - origin_gt;
+    num += a.dot(b);
+    den += a.squaredNorm();
+  }
+  const double scale = num / den;
+  for (int k = 0; k < static_cast<int>(ws.poses.size()); ++k) {
+    const SE3d est = window.keyframe(k).T_world_cam();
+    const Eigen::Vector3d t = origin_gt + scale * (est.translation() - origin_est);
+    e.max_translation_m = std::max(e.max_translation_m, (t - ws.poses[k].translation()).norm());
+    const double angle = so3Log(est.rotation().conjugate() * ws.poses[k].rotation()).norm();
+    e.max_rotation_deg = std::max(e.max_rotation_deg, angle * 180 / M_PI);
+  }
+  std::vector<double> rel;
+  for (const auto& [id, point] : window.points())
+    rel.push_back(std::abs(point->inverse_distance / scale - true_inverse_distance.at(id)) /
+                  true_inverse_distance.at(id));
+  std::nth_element(rel.begin(), rel.begin() + rel.size() / 2, rel.end());
+  e.median_inverse_distance_rel = rel[rel.size() / 2];
+  for (int i = 0; i < truth_intrinsics.size(); ++i)
+    e.max_intrinsics_rel = std::max(e.max_intrinsics_rel,
+        std::abs(window.intrinsics()[i] - truth_intrinsics[i]) / std::abs(truth_intrinsics[i]));
+  return e;
+}
+
+// Builds the window at ground truth, then perturbs it: poses of all but the (constant) first
+// keyframe by 2 cm and 1° in random directions, inverse distances by ±20 %, affine by
+// (0.02, 1.0), and — when asked — every intrinsic parameter by ±1 %.
+Errors perturbAndRecover(bool optimize_intrinsics, double amount = 1.0) {
+  const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
+  const int num_keyframes = 5;
+  const WindowScene ws(camera, num_keyframes);
+  WindowOptions options;
+  options.max_keyframes = num_keyframes;
+  options.optimize_intrinsics = optimize_intrinsics;
+  // Per level. DSO's 6 iterations suit the odometry, whose estimates arrive nearly right;
+  // recovering 2 cm / 1° from scratch takes more.
+  options.max_iterations = 100;
+  const Eigen::VectorXd truth = camera.params();
+  SlidingWindow window(camera.modelName(), truth, options);
+  for (int k = 0; k < num_keyframes; ++k)
+    window.addKeyframe(k, 0.1 * k, 1.0, ws.poses[k], Eigen::Vector2d::Zero(), ws.images[k]);
+
+  std::map<int, double> true_d;
+  const Mask mask = validityMask(camera);
+  for (int k = 0; k < num_keyframes; ++k) {
+    for (const Eigen::Vector2i& pixel : gradientPixels(*ws.images[k], mask, 24)) {
+      Eigen::Vector3d bearing;
+      if (!camera.unproject(pixel.cast<double>(), bearing)) continue;
+      const auto rho = ws.scene.distance(ws.poses[k], bearing);
+      if (!rho) continue;
+      const int id = window.addPoint(k, pixel.cast<double>(), 1.0 / *rho);
+      if (id >= 0) true_d[id] = 1.0 / *rho;
+    }
+  }
+  EXPECT_GT(window.numPoints(), 250);
+
+  std::mt19937 rng(42);
+  std::normal_distribution<double> n(0.0, 1.0);
+  auto randomUnit = [&] { return Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized(); };
+  for (int k = 1; k < num_keyframes; ++k) {
+    WindowKeyframe& kf = window.mutableKeyframe(k);
+    const SE3d perturbed = test::moveInCamera(kf.T_world_cam(), amount * 0.02 * randomUnit(), amount * 1.0 * randomUnit());
+    perturbed.toParameters(kf.pose.data());
+    kf.affine = {amount * 0.02, amount * 1.0};
+  }
+  for (const auto& [id, d] : true_d)
+    window.mutablePoint(id).inverse_distance = d * (1.0 + amount * (n(rng) > 0 ? 0.2 : -0.2));
+  if (optimize_intrinsics)
+    for (int i = 0; i < truth.size(); ++i)
+      window.mutableIntrinsics()[i] = truth[i] * (1.0 + amount * (i % 2 ? 0.01 : -0.01));
+
+  // Two levels: level 1 doubles the convergence basin; coarser levels average the 8-pixel
+  // pattern over too much of the 320-pixel image and bias the result.
+  const WindowSolveSummary summary = window.optimizeCoarseToFine(2);
+  EXPECT_TRUE(summary.usable) << summary.message;
+  const Errors e = compare(window, ws, truth, true_d);
+  std::cout << "after " << summary.iterations << " iterations (" << summary.linear_solver
+            << "): max translation " << e.max_translation_m << " m, max rotation "
+            << e.max_rotation_deg << " deg, median inverse distance " << e.median_inverse_distance_rel
+            << ", intrinsics " << e.max_intrinsics_rel << "\n";
+  return e;
+}
+
+// Tolerances. The perturbation is 2 cm / 1° / 20 %. Even started exactly at ground truth,
+// the optimum of these renders lies ≈ 3.4 mm / 0.09° / 2 % away (worst keyframe): the
+// anti-aliasing and the lens blur act in each image's own pixel grid, so the images are not
+// exact warps of one another, and points at occlusion edges mix surfaces. We ask for that
+// bias plus a margin — 5 mm, 0.15°, 3 % — a quarter, a seventh and a seventh of the
+// perturbation: the window brings the state back to where the data puts it.
+TEST(SlidingWindow, RecoversPerturbedKeyframesAndPointsOnRenderedScene) {
+  const Errors e = perturbAndRecover(false);
+  EXPECT_LT(e.max_translation_m, 5e-3);
+  EXPECT_LT(e.max_rotation_deg, 0.15);
+  EXPECT_LT(e.median_inverse_distance_rel, 0.03);
+}
+
+
+}  // namespace
+}  // namespace omnidso
