@@ -152,7 +152,10 @@ class SE3 {
       b = T(1) / T(6) - theta_sq / T(120);
     } else {
       const T theta = sqrt(theta_sq);
-      a = (T(1) - cos(theta)) / theta_sq;
+      // 1 − cos θ = 2 sin²(θ/2) avoids the cancellation that costs 1 − cos θ (and the
+      // Jet derivative of a) about half their digits at small θ.
+      const T sin_half = sin(theta / T(2));
+      a = T(2) * sin_half * sin_half / theta_sq;
       b = (theta - sin(theta)) / (theta_sq * theta);
     }
     return Matrix3::Identity() + a * K + b * K * K;

@@ -1,0 +1,101 @@
+#pragma once
+// Bilinear sampling of float images at sub-pixel positions (u, v) = (column, row), pixel
+// centres at integer coordinates (docs/architecture.md).
+//
+// The interpolant inside the cell [u0, u0+1] × [v0, v0+1], with fu = u − u0, fv = v − v0:
+//   I(u, v) = (1−fv)·((1−fu)·I00 + fu·I10) + fv·((1−fu)·I01 + fu·I11)
+//   ∂I/∂u   = (1−fv)·(I10 − I00) + fv·(I11 − I01)
+//   ∂I/∂v   = (1−fu)·(I01 − I00) + fu·(I11 − I10)
+// where Iab = I(u0 + a, v0 + b). The cell is u0 = floor(u), clamped to w − 2 so that the
+// last column/row (u = w − 1) is reached from the left cell with fu = 1. On a cell edge the
+// derivative is therefore the one of the cell to the right/below (or the last cell at the
+// far border) — the same for the templated and the analytic version, so that autodiff
+// residuals and hand-derived residuals agree everywhere.
+//
+// sampleBilinear is a template so that it runs on double, float and ceres::Jet without this
+// header including Ceres: the cell index needs the scalar part of the coordinate, which
+// scalarPart() gives (an overload for plain floating types and one for any type with a
+// member `.a`, as ceres::Jet has).
+
+#include <algorithm>
+#include <cmath>
+
+#include "omnidso/core/image.hpp"
+
+namespace omnidso {
+
+inline double scalarPart(double x) { return x; }
+inline double scalarPart(float x) { return static_cast<double>(x); }
+template <typename T>
+auto scalarPart(const T& x) -> decltype(static_cast<double>(x.a)) {
+  return static_cast<double>(x.a);
+}
+
+// The integer cell of a bilinear lookup: the top-left neighbour (u0, v0), the bottom-right
+// (u1, v1) (equal to u0/v0 on a 1-pixel-wide image), or false if (u, v) lies outside
+// [0, w−1] × [0, h−1] or is not finite.
+struct BilinearCell {
+  int u0 = 0;
+  int v0 = 0;
+  int u1 = 0;
+  int v1 = 0;
+};
+
+inline bool bilinearCell(int width, int height, double u, double v, BilinearCell* cell) {
+  // The negated comparisons are false for NaN, so NaN is rejected too.
+  if (!(u >= 0.0 && v >= 0.0 && u <= width - 1.0 && v <= height - 1.0)) return false;
+  if (!std::isfinite(u) || !std::isfinite(v)) return false;
+  cell->u0 = std::min(static_cast<int>(std::floor(u)), std::max(width - 2, 0));
+  cell->v0 = std::min(static_cast<int>(std::floor(v)), std::max(height - 2, 0));
+  cell->u1 = std::min(cell->u0 + 1, width - 1);
+  cell->v1 = std::min(cell->v0 + 1, height - 1);
+  return true;
+}
+
+// Bilinear value at (u, v); false (value untouched) outside the image or for non-finite
+// coordinates. For T = ceres::Jet the derivative parts follow the formula above.
+template <typename T>
+bool sampleBilinear(const ImageF& img, const T& u, const T& v, T* value) {
+  BilinearCell c;
+  if (!bilinearCell(img.width(), img.height(), scalarPart(u), scalarPart(v), &c)) return false;
+  const T fu = u - T(static_cast<double>(c.u0));
+  const T fv = v - T(static_cast<double>(c.v0));
+  const T i00 = T(static_cast<double>(img(c.u0, c.v0)));
+  const T i10 = T(static_cast<double>(img(c.u1, c.v0)));
+  const T i01 = T(static_cast<double>(img(c.u0, c.v1)));
+  const T i11 = T(static_cast<double>(img(c.u1, c.v1)));
+  const T one(1.0);
+  *value = (one - fv) * ((one - fu) * i00 + fu * i10) + fv * ((one - fu) * i01 + fu * i11);
+  return true;
+}
+
+// Value and the exact partial derivatives of the bilinear interpolant (formulas above).
+// Any of the output pointers may be null.
+inline bool sampleBilinearWithGradient(const ImageF& img, double u, double v, double* value,
+                                       double* d_du, double* d_dv) {
+  BilinearCell c;
+  if (!bilinearCell(img.width(), img.height(), u, v, &c)) return false;
+  const double fu = u - c.u0;
+  const double fv = v - c.v0;
+  const double i00 = img(c.u0, c.v0);
+  const double i10 = img(c.u1, c.v0);
+  const double i01 = img(c.u0, c.v1);
+  const double i11 = img(c.u1, c.v1);
+  if (value) {
+    *value = (1.0 - fv) * ((1.0 - fu) * i00 + fu * i10) + fv * ((1.0 - fu) * i01 + fu * i11);
+  }
+  if (d_du) *d_du = (1.0 - fv) * (i10 - i00) + fv * (i11 - i01);
+  if (d_dv) *d_dv = (1.0 - fu) * (i01 - i00) + fu * (i11 - i10);
+  return true;
+}
+
+// True iff (u, v) is inside the image and all 4 neighbours used by the bilinear lookup are
+// valid (non-zero) in the mask.
+inline bool isValidBilinear(const Mask& mask, double u, double v) {
+  BilinearCell c;
+  if (!bilinearCell(mask.width(), mask.height(), u, v, &c)) return false;
+  return mask(c.u0, c.v0) != 0 && mask(c.u1, c.v0) != 0 && mask(c.u0, c.v1) != 0 &&
+         mask(c.u1, c.v1) != 0;
+}
+
+}  // namespace omnidso

@@ -1,0 +1,52 @@
+#include "omnidso/core/pyramid.hpp"
+
+#include <string>
+#include <utility>
+
+#include "omnidso/core/error.hpp"
+
+namespace omnidso {
+
+ImagePyramid::ImagePyramid(ImageF level0, int num_levels) {
+  if (num_levels < 1) {
+    throw Error("ImagePyramid: number of levels must be at least 1, got " +
+                std::to_string(num_levels));
+  }
+  // Each level halves (floor) the size of the previous one.
+  int coarsest_width = level0.width();
+  int coarsest_height = level0.height();
+  for (int l = 1; l < num_levels; ++l) {
+    coarsest_width /= 2;
+    coarsest_height /= 2;
+  }
+  if (coarsest_width < kMinCoarsestSize || coarsest_height < kMinCoarsestSize) {
+    throw Error("ImagePyramid: a " + std::to_string(level0.width()) + "x" +
+                std::to_string(level0.height()) + " image is too small for " +
+                std::to_string(num_levels) + " levels (the coarsest level needs at least " +
+                std::to_string(kMinCoarsestSize) + "x" + std::to_string(kMinCoarsestSize) +
+                " pixels)");
+  }
+  levels_.reserve(num_levels);
+  gradients_.reserve(num_levels);
+  levels_.push_back(std::move(level0));
+  for (int l = 1; l < num_levels; ++l) levels_.push_back(downsample2x2(levels_.back()));
+  for (const ImageF& level : levels_) gradients_.push_back(computeGradients(level));
+}
+
+const ImageF& ImagePyramid::level(int index) const {
+  if (index < 0 || index >= numLevels()) {
+    throw Error("ImagePyramid: level " + std::to_string(index) + " out of range [0, " +
+                std::to_string(numLevels()) + ")");
+  }
+  return levels_[index];
+}
+
+const ImageGradients& ImagePyramid::gradients(int index) const {
+  if (index < 0 || index >= numLevels()) {
+    throw Error("ImagePyramid: level " + std::to_string(index) + " out of range [0, " +
+                std::to_string(numLevels()) + ")");
+  }
+  return gradients_[index];
+}
+
+}  // namespace omnidso

@@ -1,0 +1,65 @@
+#include "omnidso/core/pyramid.hpp"
+
+#include <gtest/gtest.h>
+
+#include "omnidso/core/error.hpp"
+
+namespace omnidso {
+namespace {
+
+ImageF rampImage(int w, int h, float a, float b) {
+  ImageF img(w, h);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) img(u, v) = a * u + b * v;
+  return img;
+}
+
+TEST(ImagePyramid, LevelSizesHalve) {
+  const ImagePyramid pyramid(ImageF(64, 50, 1.0f));
+  ASSERT_EQ(pyramid.numLevels(), ImagePyramid::kDefaultNumLevels);
+  const int widths[] = {64, 32, 16, 8, 4};
+  const int heights[] = {50, 25, 12, 6, 3};
+  for (int l = 0; l < pyramid.numLevels(); ++l) {
+    EXPECT_EQ(pyramid.level(l).width(), widths[l]);
+    EXPECT_EQ(pyramid.level(l).height(), heights[l]);
+    EXPECT_EQ(pyramid.gradients(l).dx.width(), widths[l]);
+    EXPECT_EQ(pyramid.gradients(l).dy.height(), heights[l]);
+  }
+}
+
+TEST(ImagePyramid, RampGradientDoublesPerLevel) {
+  // A 2×2 mean of a linear ramp is the ramp at the block centre, 2u + 0.5 on the finer
+  // level, so level L is again linear with slope 2^L·a — exact gradients, up to float
+  // rounding of values ≤ 250 (≈ 2e-5, times the 2^L spacing at most ~4e-4).
+  const float a = 1.25f, b = -0.5f;
+  const ImagePyramid pyramid(rampImage(160, 96, a, b), 4);
+  for (int l = 0; l < pyramid.numLevels(); ++l) {
+    const float scale = static_cast<float>(1 << l);
+    const ImageGradients& g = pyramid.gradients(l);
+    for (int v = 0; v < g.dx.height(); ++v) {
+      for (int u = 0; u < g.dx.width(); ++u) {
+        ASSERT_NEAR(g.dx(u, v), a * scale, 1e-3f) << "level " << l;
+        ASSERT_NEAR(g.dy(u, v), b * scale, 1e-3f) << "level " << l;
+      }
+    }
+    // Pixel centre convention: level-L pixel u sits at level-0 (u + 0.5)·2^L − 0.5.
+    const float u0 = (3 + 0.5f) * scale - 0.5f, v0 = (2 + 0.5f) * scale - 0.5f;
+    EXPECT_NEAR(pyramid.level(l)(3, 2), a * u0 + b * v0, 1e-3f);
+  }
+}
+
+TEST(ImagePyramid, TooSmallOrNoLevelsThrows) {
+  EXPECT_THROW(ImagePyramid(ImageF(31, 64), 5), Error);  // 31/16 = 1 column at level 4
+  EXPECT_NO_THROW(ImagePyramid(ImageF(32, 32), 5));
+  EXPECT_THROW(ImagePyramid(ImageF(32, 32), 0), Error);
+  EXPECT_THROW(ImagePyramid(ImageF(), 1), Error);
+}
+
+TEST(ImagePyramid, LevelOutOfRangeThrows) {
+  const ImagePyramid pyramid(ImageF(16, 16), 2);
+  EXPECT_THROW(pyramid.level(2), Error);
+  EXPECT_THROW(pyramid.gradients(-1), Error);
+}
+
+}  // namespace
+}  // namespace omnidso
