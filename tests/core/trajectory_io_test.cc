@@ -1,0 +1,166 @@
+// Trajectory file I/O: bit-exact TUM round trip, the three formats, and every malformed
+// case rejected with an Error naming file and line.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <omnidso/core/error.hpp>
+#include <omnidso/core/trajectory_io.hpp>
+#include <random>
+#include <string>
+
+#include "test_data.hpp"
+
+namespace omnidso {
+namespace {
+
+// A file in the temporary directory named after the running test (ctest runs tests in
+// parallel processes, so names must not collide).
+std::string writeTempFile(const std::string& suffix, const std::string& content) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                     ("omnidso_" + std::string(info->name()) + suffix);
+  std::ofstream(path) << content;
+  return path.string();
+}
+
+// Expects reading to throw an Error whose message starts with "PATH:LINE:".
+void expectErrorAtLine(const std::string& content, TrajectoryFormat format, int line,
+                       const std::string& what) {
+  const std::string path = writeTempFile(".txt", content);
+  try {
+    readTrajectory(path, format);
+    ADD_FAILURE() << "no error for: " << what;
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind(path + ":" + std::to_string(line) + ":", 0), 0u)
+        << what << ": " << message;
+  }
+}
+
+TEST(TrajectoryIo, TumRoundTripIsBitExact) {
+  std::mt19937 rng(42);
+  std::normal_distribution<double> normal(0.0, 3.0);
+  Trajectory trajectory;
+  // Large Unix-time stamps (9 decimals suffice) and small ones (need 17 digits).
+  double t = 1403715273.26214;
+  for (int i = 0; i < 50; ++i) {
+    SE3<double>::Tangent xi;
+    for (int k = 0; k < 6; ++k) xi(k) = normal(rng);
+    trajectory.push_back({t, SE3d::exp(xi)});
+    t += (i == 25) ? 0.1 / 3.0 : 0.05;
+  }
+  trajectory.insert(trajectory.begin(), StampedPose{0.1 / 3.0, SE3d::exp(SE3d::Tangent::Ones())});
+  const std::string path = writeTempFile(".txt", "");
+  writeTrajectoryTum(path, trajectory);
+  const Trajectory read = readTrajectoryTum(path);
+  ASSERT_EQ(read.size(), trajectory.size());
+  for (size_t i = 0; i < read.size(); ++i) {
+    EXPECT_EQ(read[i].timestamp, trajectory[i].timestamp) << i;
+    double a[7], b[7];
+    read[i].pose.toParameters(a);
+    trajectory[i].pose.toParameters(b);
+    for (int k = 0; k < 7; ++k) EXPECT_EQ(a[k], b[k]) << i << " " << k;
+  }
+}
+
+TEST(TrajectoryIo, TumSkipsCommentsAndBlankLinesAndAcceptsCommas) {
+  const std::string path = writeTempFile(".txt",
+                                         "# timestamp tx ty tz qx qy qz qw\n"
+                                         "\n"
+                                         "1.0 1 2 3 0 0 0 1\n"
+                                         "  # indented comment\n"
+                                         "2.5,4,5,6,0,0,0.7071067811865476,0.7071067811865476\r\n");
+  const Trajectory trajectory = readTrajectoryTum(path);
+  ASSERT_EQ(trajectory.size(), 2u);
+  EXPECT_EQ(trajectory[1].timestamp, 2.5);
+  EXPECT_EQ(trajectory[1].pose.translation(), Eigen::Vector3d(4, 5, 6));
+  // 90° about z maps x to y; the quaternion is unit to 1e-16, so 1e-12 is generous.
+  EXPECT_LT((trajectory[1].pose.rotation() * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY())
+                .norm(),
+            1e-12);
+}
+
+TEST(TrajectoryIo, SlightlyNonUnitQuaternionIsNormalised) {
+  // Six printed decimals leave |q| off by ~1e-6: accepted and normalised.
+  const std::string path = writeTempFile(".txt", "0 0 0 0 -0.824237 -0.106942 -0.551702 0.069434\n");
+  const Trajectory trajectory = readTrajectoryTum(path);
+  EXPECT_NEAR(trajectory[0].pose.rotation().norm(), 1.0, 1e-15);
+}
+
+TEST(TrajectoryIo, KittiUsesLineIndexAsTimestamp) {
+  const std::string path = writeTempFile(
+      ".txt",
+      "1 0 0 0 0 1 0 0 0 0 1 0\n"
+      "0 -1 0 1.5 1 0 0 2.5 0 0 1 3.5\n");
+  const Trajectory trajectory = readTrajectory(path, TrajectoryFormat::kKitti);
+  ASSERT_EQ(trajectory.size(), 2u);
+  EXPECT_EQ(trajectory[0].timestamp, 0.0);
+  EXPECT_EQ(trajectory[1].timestamp, 1.0);
+  EXPECT_EQ(trajectory[1].pose.translation(), Eigen::Vector3d(1.5, 2.5, 3.5));
+  Eigen::Matrix3d expected;
+  expected << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  // An exact rotation matrix survives the polar projection to rounding (1e-15).
+  EXPECT_LT((trajectory[1].pose.rotationMatrix() - expected).norm(), 1e-15);
+}
+
+TEST(TrajectoryIo, EurocCsvConvertsNanosecondsAndWxyzOrder) {
+  const std::string path = writeTempFile(
+      ".csv",
+      "#timestamp [ns], p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], "
+      "q_RS_y [], q_RS_z [], v_x, v_y, v_z\n"
+      "1403715273262142976,0.878612,2.142470,0.947262,0.060514,-0.828459,-0.058956,-0.553641,"
+      "0.009474,-0.014009,-0.002145\n"
+      "1403715273267142912,0.878628,2.142392,0.947251,0.060514,-0.828458,-0.058955,-0.553643,"
+      "0.009474,-0.014009,-0.002145\n");
+  const Trajectory trajectory = readTrajectory(path, TrajectoryFormat::kEuroc);
+  ASSERT_EQ(trajectory.size(), 2u);
+  // A double near 1.4e9 s resolves 2.4e-7 s, the bound on the conversion error.
+  EXPECT_NEAR(trajectory[0].timestamp, 1403715273.262142976, 2.4e-7);
+  EXPECT_NEAR(trajectory[1].timestamp - trajectory[0].timestamp, 0.004999936, 5e-7);
+  EXPECT_EQ(trajectory[0].pose.translation(), Eigen::Vector3d(0.878612, 2.142470, 0.947262));
+  // Printed to 6 decimals: normalisation changes components by at most ~1e-6.
+  EXPECT_NEAR(trajectory[0].pose.rotation().w(), 0.060514, 2e-6);
+  EXPECT_NEAR(trajectory[0].pose.rotation().x(), -0.828459, 2e-6);
+}
+
+TEST(TrajectoryIo, MalformedFilesNameFileAndLine) {
+  const std::string ok = "# header\n1 0 0 0 0 0 0 1\n";
+  expectErrorAtLine(ok + "2 0 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "7 columns");
+  expectErrorAtLine(ok + "2 0 0 0 0 0 0 1 9\n", TrajectoryFormat::kTum, 3, "9 columns");
+  expectErrorAtLine(ok + "2 0 x 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "non-numeric");
+  expectErrorAtLine(ok + "2 0 1e 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "trailing garbage");
+  expectErrorAtLine(ok + "2 0 nan 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "nan");
+  expectErrorAtLine(ok + "2 0 0 inf 0 0 0 1\n", TrajectoryFormat::kTum, 3, "inf");
+  expectErrorAtLine(ok + "2 0 0 0 0 0 0 1.01\n", TrajectoryFormat::kTum, 3, "non-unit q");
+  expectErrorAtLine(ok + "1 0 0 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "repeated stamp");
+  expectErrorAtLine(ok + "0.5 0 0 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "stamp backwards");
+  expectErrorAtLine("1 0 0 0 0 1 0 0 0 0 1\n", TrajectoryFormat::kKitti, 1, "kitti 11 columns");
+  expectErrorAtLine("1 0 0 0 0 1 0 0 0 0 2 0\n", TrajectoryFormat::kKitti, 1, "kitti not a rotation");
+  expectErrorAtLine("1 0 0 0 0 0 0\n", TrajectoryFormat::kEuroc, 1, "euroc 7 columns");
+  expectErrorAtLine("1,0,0,0,1,0,0,0,abc\n", TrajectoryFormat::kEuroc, 1, "euroc extra non-numeric");
+}
+
+TEST(TrajectoryIo, EmptyAndMissingFilesNameTheFile) {
+  const std::string path = writeTempFile(".txt", "# only a comment\n\n");
+  try {
+    readTrajectoryTum(path);
+    ADD_FAILURE() << "no error for an empty file";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path + ":", 0), 0u) << e.what();
+  }
+  EXPECT_THROW(readTrajectoryTum(path + ".does_not_exist"), Error);
+  EXPECT_THROW(parseTrajectoryFormat("bag"), Error);
+}
+
+TEST(TrajectoryIo, ReadsRealEurocGroundTruth) {
+  const auto dir = test::sharedDataDir("trajectories");
+  if (!dir) GTEST_SKIP() << test::missingDataMessage("trajectories");
+  const Trajectory trajectory =
+      readTrajectoryTum((*dir / "euroc_v1_01_easy_imu_groundtruth.txt").string());
+  EXPECT_EQ(trajectory.size(), 2895u);  // 2896 lines minus the header
+  EXPECT_EQ(trajectory.front().timestamp, 1403715273.26214);
+}
+
+}  // namespace
+}  // namespace omnidso

@@ -1,0 +1,149 @@
+// `omnidso eval`: ATE and RPE of an estimated trajectory against ground truth. The metrics
+// and their definitions live in omnidso/core/metrics.hpp; this file only parses options
+// and prints a table or JSON.
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <omnidso/cli/commands.hpp>
+#include <omnidso/core/error.hpp>
+#include <omnidso/core/metrics.hpp>
+#include <omnidso/core/trajectory_io.hpp>
+#include <string>
+
+namespace omnidso::cli {
+namespace {
+
+struct EvalArguments {
+  std::string gt_path;
+  std::string est_path;
+  std::string format = "tum";
+  std::string gt_format;  // empty: same as --format
+  std::string align = "sim3";
+  double max_dt = 0.02;
+  double delta = 1.0;
+  std::string delta_unit = "f";
+  bool pairs_from_reference = false;
+  bool json = false;
+};
+
+nlohmann::ordered_json statisticsJson(const ErrorStatistics& s) {
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std},
+          {"min", s.min},   {"max", s.max},   {"count", s.count}};
+}
+
+nlohmann::ordered_json optionalStatisticsJson(const std::optional<ErrorStatistics>& s) {
+  return s ? statisticsJson(*s) : nlohmann::ordered_json(nullptr);
+}
+
+nlohmann::ordered_json resultJson(const EvalArguments& args, const EvaluationResult& r, size_t gt_poses,
+                          size_t est_poses) {
+  const Eigen::Matrix3d rotation = r.alignment.rotationMatrix();
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (int i = 0; i < 3; ++i) rows.push_back({rotation(i, 0), rotation(i, 1), rotation(i, 2)});
+  const Eigen::Vector3d& t = r.alignment.translation();
+  return {{"ate", statisticsJson(r.ate)},
+          {"rpe",
+           {{"delta", args.delta},
+            {"delta_unit", args.delta_unit},
+            {"translation_m", optionalStatisticsJson(r.rpe_translation_m)},
+            {"rotation_deg", optionalStatisticsJson(r.rpe_rotation_deg)}}},
+          {"alignment",
+           {{"type", args.align},
+            {"scale", r.alignment.scale()},
+            {"rotation", rows},
+            {"translation", {t.x(), t.y(), t.z()}}}},
+          {"matched_poses", r.association.size()},
+          {"gt_poses", gt_poses},
+          {"est_poses", est_poses},
+          {"gt_length_m", r.gt_length_m}};
+}
+
+std::string statisticsRow(const std::string& label, const std::optional<ErrorStatistics>& s) {
+  if (!s) return fmt::format("{:<12}{:>12}\n", label, "n/a (too short for one pair)");
+  return fmt::format("{:<12}{:>12.6f}{:>12.6f}{:>12.6f}{:>12.6f}{:>12.6f}{:>12.6f}\n", label,
+                     s->rmse, s->mean, s->median, s->std, s->min, s->max);
+}
+
+void printTable(const EvalArguments& args, const EvaluationResult& r, size_t gt_poses,
+                size_t est_poses) {
+  std::cout << fmt::format("matched poses  {} (ground truth {}, estimate {})\n",
+                           r.association.size(), gt_poses, est_poses)
+            << fmt::format("alignment      {} (scale {:.6f})\n", args.align, r.alignment.scale())
+            << fmt::format("gt length      {:.3f} m\n", r.gt_length_m)
+            << fmt::format("RPE delta      {} {}\n\n", args.delta, args.delta_unit)
+            << fmt::format("{:<12}{:>12}{:>12}{:>12}{:>12}{:>12}{:>12}\n", "", "rmse", "mean",
+                           "median", "std", "min", "max")
+            << statisticsRow("ATE (m)", r.ate) << statisticsRow("RPE (m)", r.rpe_translation_m)
+            << statisticsRow("RPE (deg)", r.rpe_rotation_deg);
+}
+
+void runEval(const EvalArguments& args) {
+  const TrajectoryFormat est_format = parseTrajectoryFormat(args.format);
+  const TrajectoryFormat gt_format =
+      parseTrajectoryFormat(args.gt_format.empty() ? args.format : args.gt_format);
+  const Trajectory gt = readTrajectory(args.gt_path, gt_format);
+  const Trajectory est = readTrajectory(args.est_path, est_format);
+
+  EvaluationOptions options;
+  options.alignment = parseAlignmentType(args.align);
+  options.max_dt = args.max_dt;
+  // KITTI files carry no timestamps: poses correspond by line.
+  options.associate_by_index =
+      gt_format == TrajectoryFormat::kKitti || est_format == TrajectoryFormat::kKitti;
+  options.rpe.delta = args.delta;
+  options.rpe.unit = parseDeltaUnit(args.delta_unit);
+  options.rpe.pairs_from_reference = args.pairs_from_reference;
+
+  EvaluationResult result;
+  try {
+    result = evaluate(gt, est, options);
+  } catch (const Error& e) {
+    // Name both files: no overlap or too few matches concerns the pair.
+    throw fileError(args.est_path, std::string(e.what()) + fmt::format(
+        " (ground truth {}: {} poses in [{:.6f}, {:.6f}] s; estimate: {} poses in "
+        "[{:.6f}, {:.6f}] s)", args.gt_path, gt.size(), gt.front().timestamp,
+        gt.back().timestamp, est.size(), est.front().timestamp, est.back().timestamp));
+  }
+  if (args.json) {
+    std::cout << resultJson(args, result, gt.size(), est.size()).dump(2) << "\n";
+  } else {
+    printTable(args, result, gt.size(), est.size());
+  }
+}
+
+}  // namespace
+
+void registerEvalCommand(CLI::App& app) {
+  auto args = std::make_shared<EvalArguments>();
+  CLI::App* cmd = app.add_subcommand(
+      "eval", "ATE and RPE of an estimated trajectory against ground truth (evo conventions)");
+  const auto formats = CLI::IsMember({"tum", "kitti", "euroc"});
+  cmd->add_option("--gt", args->gt_path, "ground-truth trajectory file")->required();
+  cmd->add_option("--est", args->est_path, "estimated trajectory file")->required();
+  cmd->add_option("--format", args->format, "file format of --est (and of --gt by default)")
+      ->check(formats)
+      ->capture_default_str();
+  cmd->add_option("--gt-format", args->gt_format, "file format of --gt if it differs")
+      ->check(formats);
+  cmd->add_option("--align", args->align, "alignment of the estimate to the ground truth")
+      ->check(CLI::IsMember({"sim3", "se3", "posyaw", "none"}))
+      ->capture_default_str();
+  cmd->add_option("--max-dt", args->max_dt, "max. timestamp difference for association (s)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--delta", args->delta, "RPE delta (frames or metres)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--delta-unit", args->delta_unit, "RPE delta unit: f (frames) or m (metres)")
+      ->check(CLI::IsMember({"f", "m"}))
+      ->capture_default_str();
+  cmd->add_flag("--pairs-from-reference", args->pairs_from_reference,
+                "RPE in metres: choose pairs along the ground truth, not the estimate");
+  cmd->add_flag("--json", args->json, "print a JSON object instead of a table");
+  cmd->callback([args] { runEval(*args); });
+}
+
+}  // namespace omnidso::cli
