@@ -1,0 +1,64 @@
+#pragma once
+// Sub-pixel sampling of a target image for the photometric residuals, the same function
+// for Jets (autodiff) and for the hand-derived kernels (value + exact gradient), so that
+// both differentiate the same interpolant:
+//   bilinear: core/interpolation.hpp, valid on [0, w−1] × [0, h−1];
+//   bicubic:  ceres::BiCubicInterpolator on ceres::Grid2D, valid on [1, w−2] × [1, h−2]
+//             (its 4×4 footprint stays inside the image; Grid2D would clamp beyond).
+// The sampler keeps a pointer to the image: the image must outlive it.
+
+#include <ceres/cubic_interpolation.h>
+
+#include <memory>
+
+#include "omnidso/core/image.hpp"
+#include "omnidso/core/interpolation.hpp"
+#include "omnidso/residuals/photometric_residual.hpp"
+
+namespace omnidso {
+
+class ImageSampler {
+ public:
+  ImageSampler(const ImageF& image, ImageInterpolation interpolation)
+      : image_(&image), interpolation_(interpolation) {
+    if (interpolation_ == ImageInterpolation::kBicubic) {
+      grid_ = std::make_unique<Grid>(image.data(), 0, image.height(), 0, image.width());
+      bicubic_ = std::make_unique<BiCubic>(*grid_);
+    }
+  }
+
+  template <typename T>
+  bool sample(const T& u, const T& v, T* value) const {
+    if (interpolation_ == ImageInterpolation::kBilinear) {
+      return sampleBilinear(*image_, u, v, value);
+    }
+    if (!insideBicubicRegion(scalarPart(u), scalarPart(v))) return false;
+    bicubic_->Evaluate(v, u, value);  // (row, column)
+    return true;
+  }
+
+  bool sampleWithGradient(double u, double v, double* value, double* d_du, double* d_dv) const {
+    if (interpolation_ == ImageInterpolation::kBilinear) {
+      return sampleBilinearWithGradient(*image_, u, v, value, d_du, d_dv);
+    }
+    if (!insideBicubicRegion(u, v)) return false;
+    bicubic_->Evaluate(v, u, value, d_dv, d_du);
+    return true;
+  }
+
+ private:
+  using Grid = ceres::Grid2D<float, 1>;
+  using BiCubic = ceres::BiCubicInterpolator<Grid>;
+
+  bool insideBicubicRegion(double u, double v) const {
+    // Comparisons with NaN are false, so NaN is rejected too.
+    return u >= 1.0 && v >= 1.0 && u <= image_->width() - 2.0 && v <= image_->height() - 2.0;
+  }
+
+  const ImageF* image_;
+  ImageInterpolation interpolation_;
+  std::unique_ptr<Grid> grid_;
+  std::unique_ptr<BiCubic> bicubic_;
+};
+
+}  // namespace omnidso
