@@ -1,0 +1,69 @@
+#pragma once
+// Calibration files: Kalibr camchain / camera YAML, DSO's camera.txt, and EuRoC's
+// sensor.yaml (ASL layout). All readers check what they read and throw omnidso::Error
+// whose message names the file and the field (YAML) or line (camera.txt).
+//
+// Kalibr (`cam0:` level optional):
+//   camera_model: pinhole | omni | eucm | ds
+//   intrinsics:   pinhole [fu, fv, pu, pv]; omni [xi, fu, fv, pu, pv];
+//                 eucm [alpha, beta, fu, fv, pu, pv]; ds [xi, alpha, fu, fv, pu, pv]
+//   distortion_model: none | radtan | equidistant  (pinhole+equidistant = kb4;
+//                 pinhole/omni + radtan = pinhole-radtan / ucm-radtan)
+//   distortion_coeffs: [k1, k2, p1, p2] (radtan) or [k1, k2, k3, k4] (equidistant)
+//   resolution: [width, height]
+//
+// DSO camera.txt (github.com/JakobEngel/dso, "Geometric Calibration File"):
+//   line 1: MODEL fx fy cx cy extra...   with MODEL one of
+//             Pinhole fx fy cx cy 0
+//             RadTan fx fy cx cy k1 k2 p1 p2          (keyword optional: 8 numbers)
+//             KannalaBrandt | EquiDistant fx fy cx cy k1 k2 k3 k4
+//             UCM fx fy cx cy xi     — this project's extension for the unified model
+//                                      (aliases Unified, UnifiedModel, Omni); upstream DSO
+//                                      has no omnidirectional model.
+//           Relative intrinsics as DSO reads them: when cx < 1 and cy < 1 the four values are
+//           fractions of the image size and fx·w, fy·h, cx·w − 0.5, cy·h − 0.5 are used (the
+//           −0.5 moves DSO's pixel-corner origin to our pixel-centre origin).
+//   line 2: in_width in_height  (the raw image: the Camera returned has this size)
+//   line 3: crop | full | none | "fx fy cx cy 0"  (DSO's rectification target; read, checked
+//           for form and otherwise ignored: this project runs on the raw model)
+//   line 4: out_width out_height
+//   Files are written with absolute intrinsics, line 3 `none` and line 4 = line 2.
+//
+// EuRoC sensor.yaml: camera_model pinhole, intrinsics [fu, fv, cu, cv], distortion_model
+// radial-tangential (or none), distortion_coefficients [k1, k2, p1, p2], resolution [w, h],
+// T_BS {rows: 4, cols: 4, data: 16 numbers, row-major} = T_body_sensor. The first line
+// `%YAML:1.0` (OpenCV style, not valid YAML) is skipped.
+
+#include <string>
+
+#include "omnidso/cameras/camera.hpp"
+#include "omnidso/core/se3.hpp"
+
+namespace omnidso {
+
+enum class CalibrationFormat { kKalibr, kDsoCameraTxt, kEurocSensor };
+
+// Looks at the content: YAML with `T_BS` or `distortion_coefficients` → EuRoC; YAML with
+// `cam0` or `camera_model` → Kalibr; otherwise camera.txt. Throws for unreadable files and
+// for a .yaml/.yml file that is not valid YAML.
+CalibrationFormat detectCalibrationFormat(const std::string& path);
+
+// Any of the three formats (detectCalibrationFormat).
+Camera loadCalibration(const std::string& path);
+
+Camera loadKalibr(const std::string& path);
+Camera loadDsoCameraTxt(const std::string& path);
+
+struct SensorCalibration {
+  Camera camera;
+  SE3d T_body_sensor;
+};
+SensorCalibration loadEurocSensor(const std::string& path);
+
+// Writes `cam0:` with camera_model, intrinsics, distortion_model, distortion_coeffs,
+// resolution. Every model of CameraModelVariant has a Kalibr form.
+void saveKalibr(const std::string& path, const Camera& camera);
+// Throws omnidso::Error for models camera.txt cannot hold (eucm, ds, ucm-radtan).
+void saveDsoCameraTxt(const std::string& path, const Camera& camera);
+
+}  // namespace omnidso

@@ -1,0 +1,164 @@
+// DSO's camera.txt (format in calibration_io.hpp).
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include "omnidso/cameras/calibration_io.hpp"
+#include "omnidso/core/error.hpp"
+
+namespace omnidso {
+namespace {
+
+struct DsoModel {
+  std::string name;  // our kName
+  int num_values;    // numbers after the keyword
+};
+
+// camera.txt keywords and the model each names. Pinhole has a fifth number, always 0.
+const std::map<std::string, DsoModel>& dsoKeywords() {
+  static const std::map<std::string, DsoModel> kKeywords = {
+      {"Pinhole", {"pinhole", 5}},   {"RadTan", {"pinhole-radtan", 8}},
+      {"KannalaBrandt", {"kb4", 8}}, {"EquiDistant", {"kb4", 8}},
+      {"UCM", {"ucm", 5}},           {"Unified", {"ucm", 5}},
+      {"UnifiedModel", {"ucm", 5}},  {"Omni", {"ucm", 5}}};
+  return kKeywords;
+}
+
+std::vector<std::string> tokens(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> out;
+  for (std::string t; in >> t;) out.push_back(t);
+  return out;
+}
+
+// Every token a finite number, else an error naming the line.
+std::vector<double> numbersOnLine(const std::string& path, int line_no,
+                                  const std::vector<std::string>& toks, size_t first) {
+  std::vector<double> out;
+  for (size_t i = first; i < toks.size(); ++i) {
+    size_t used = 0;
+    double x = 0.0;
+    try {
+      x = std::stod(toks[i], &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != toks[i].size()) throw fileError(path, line_no, "'" + toks[i] + "' is not a number");
+    if (!std::isfinite(x)) throw fileError(path, line_no, "'" + toks[i] + "' is not finite");
+    out.push_back(x);
+  }
+  return out;
+}
+
+std::pair<int, int> imageSize(const std::string& path, int line_no, const std::string& line,
+                              const std::string& what) {
+  std::vector<double> v;
+  try {
+    v = numbersOnLine(path, line_no, tokens(line), 0);
+  } catch (const Error&) {
+    v.clear();  // reported below, with what the line should hold
+  }
+  if (v.size() != 2 || v[0] < 1 || v[1] < 1 || v[0] != std::floor(v[0]) ||
+      v[1] != std::floor(v[1])) {
+    throw fileError(path, line_no, "expected '" + what + "' (two positive integers)");
+  }
+  return {static_cast<int>(v[0]), static_cast<int>(v[1])};
+}
+
+}  // namespace
+
+Camera loadDsoCameraTxt(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw fileError(path, "cannot open calibration file");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  while (!lines.empty() && tokens(lines.back()).empty()) lines.pop_back();
+  if (lines.size() < 2) {
+    throw fileError(path,
+                    "expected at least 2 lines: 'MODEL fx fy cx cy ...' and "
+                    "'in_width in_height'");
+  }
+
+  const std::vector<std::string> toks = tokens(lines[0]);
+  if (toks.empty()) throw fileError(path, 1, "expected 'MODEL fx fy cx cy ...'");
+  const bool has_keyword = !std::isdigit(static_cast<unsigned char>(toks[0][0])) &&
+                           toks[0][0] != '-' && toks[0][0] != '.' && toks[0][0] != '+';
+  DsoModel model{"pinhole-radtan", 8};  // DSO reads 8 bare numbers as RadTan
+  if (has_keyword) {
+    const auto it = dsoKeywords().find(toks[0]);
+    if (it == dsoKeywords().end()) {
+      throw fileError(path, 1,
+                      "unknown camera model '" + toks[0] +
+                          "' (known: Pinhole, RadTan, KannalaBrandt, EquiDistant, "
+                          "UCM/Unified/UnifiedModel/Omni)");
+    }
+    model = it->second;
+  }
+  std::vector<double> values = numbersOnLine(path, 1, toks, has_keyword ? 1 : 0);
+  if (static_cast<int>(values.size()) != model.num_values) {
+    throw fileError(path, 1,
+                    "camera model '" + model.name + "' takes " + std::to_string(model.num_values) +
+                        " numbers, got " + std::to_string(values.size()));
+  }
+  if (model.name == "pinhole") {
+    if (values[4] != 0.0) throw fileError(path, 1, "Pinhole: the fifth number must be 0");
+    values.pop_back();
+  }
+  const auto [width, height] = imageSize(path, 2, lines[1], "in_width in_height");
+
+  // DSO's relative form (cx, cy < 1): fractions of the image size with the pixel-corner
+  // origin; −0.5 moves it to our pixel-centre origin.
+  if (values[2] < 1.0 && values[3] < 1.0) {
+    values[0] *= width;
+    values[1] *= height;
+    values[2] = values[2] * width - 0.5;
+    values[3] = values[3] * height - 0.5;
+  }
+
+  if (lines.size() >= 3) {
+    const std::vector<std::string> crop = tokens(lines[2]);
+    const bool keyword =
+        crop.size() == 1 && (crop[0] == "crop" || crop[0] == "full" || crop[0] == "none");
+    if (!keyword && !(crop.size() == 5 && numbersOnLine(path, 3, crop, 0).size() == 5)) {
+      throw fileError(path, 3, "expected 'crop', 'full', 'none' or 'fx fy cx cy 0'");
+    }
+    if (lines.size() < 4) throw fileError(path, 4, "missing 'out_width out_height'");
+    imageSize(path, 4, lines[3], "out_width out_height");
+  }
+
+  try {
+    return Camera::create(
+        model.name, Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<int>(values.size())),
+        width, height);
+  } catch (const Error& e) {
+    throw fileError(path, 1, e.what());
+  }
+}
+
+void saveDsoCameraTxt(const std::string& path, const Camera& camera) {
+  const std::string name = camera.modelName();
+  std::string keyword;
+  if (name == "pinhole") keyword = "Pinhole";
+  if (name == "pinhole-radtan") keyword = "RadTan";
+  if (name == "kb4") keyword = "KannalaBrandt";
+  if (name == "ucm") keyword = "UCM";
+  if (keyword.empty()) {
+    throw Error(path + ": DSO's camera.txt has no form for camera model '" + name +
+                "' (it has pinhole, pinhole-radtan, kb4 and, as this project's extension, ucm)");
+  }
+  std::ofstream file(path);
+  if (!file) throw fileError(path, "cannot open for writing");
+  file << std::setprecision(17) << keyword;
+  const Eigen::VectorXd p = camera.params();
+  for (int i = 0; i < p.size(); ++i) file << " " << p[i];
+  if (name == "pinhole") file << " 0";
+  file << "\n"
+       << camera.width() << " " << camera.height() << "\nnone\n"
+       << camera.width() << " " << camera.height() << "\n";
+  if (!file) throw fileError(path, "write failed");
+}
+
+}  // namespace omnidso

@@ -1,0 +1,227 @@
+// Calibration files (calibration_io.hpp): round trips and rejection of bad input.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <omnidso/cameras/calibration_io.hpp>
+#include <omnidso/core/error.hpp>
+
+#include "test_data.hpp"
+
+namespace omnidso {
+namespace {
+
+Eigen::VectorXd vec(std::initializer_list<double> values) {
+  Eigen::VectorXd v(static_cast<int>(values.size()));
+  std::copy(values.begin(), values.end(), v.data());
+  return v;
+}
+
+// Parameters with many significant digits, so that a lossy write would show.
+std::vector<Camera> everyModel() {
+  return {
+      Camera::create("pinhole", vec({460.123456789, 458.7, 319.25, 239.5}), 640, 480),
+      Camera::create("ucm", vec({380.1, 379.3, 320.2, 239.1, 0.912345678901}), 640, 480),
+      Camera::create("eucm", vec({250.5, 251.25, 320.3, 240.2, 0.6123, 1.1}), 640, 480),
+      Camera::create("ds", vec({180.1, 181.2, 319.1, 240.7, 0.2, 0.6}), 640, 480),
+      Camera::create("kb4", vec({200, 201, 319.4, 239.6, 0.01, -0.005, 0.001, -2e-4}), 640, 480),
+      Camera::create("pinhole-radtan",
+                     vec({458.654, 457.296, 367.215, 248.375, -0.28340811, 0.07395907, 0.00019359,
+                          1.76187114e-05}),
+                     752, 480),
+      Camera::create("ucm-radtan",
+                     vec({408.911, 410.488, 630.280, 431.917, 1.05343, -0.0082879, 0.0117789,
+                          0.0228246, -0.0041849}),
+                     1280, 800)};
+}
+
+class CalibrationIoTest : public ::testing::Test {
+ protected:
+  std::string path(const std::string& name) const {
+    const std::filesystem::path dir =
+        std::filesystem::path(::testing::TempDir()) / "omnidso_calibration_io_test";
+    std::filesystem::create_directories(dir);
+    return (dir / name).string();
+  }
+  std::string write(const std::string& name, const std::string& content) const {
+    const std::string p = path(name);
+    std::ofstream(p) << content;
+    return p;
+  }
+  // The message of the omnidso::Error that loadCalibration(file) throws.
+  static std::string loadError(const std::string& file) {
+    try {
+      loadCalibration(file);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "(no error)";
+  }
+};
+
+// Writes are at 17 significant digits, which round-trip every double exactly.
+void expectSameCamera(const Camera& a, const Camera& b) {
+  EXPECT_EQ(a.modelName(), b.modelName());
+  EXPECT_EQ(a.width(), b.width());
+  EXPECT_EQ(a.height(), b.height());
+  EXPECT_EQ(a.params(), b.params()) << a.modelName();
+}
+
+TEST_F(CalibrationIoTest, KalibrRoundTripsEveryModel) {
+  for (const Camera& camera : everyModel()) {
+    const std::string file = path("camchain_" + camera.modelName() + ".yaml");
+    saveKalibr(file, camera);
+    EXPECT_EQ(detectCalibrationFormat(file), CalibrationFormat::kKalibr);
+    expectSameCamera(loadCalibration(file), camera);
+  }
+}
+
+TEST_F(CalibrationIoTest, DsoCameraTxtRoundTripsItsModels) {
+  for (const Camera& camera : everyModel()) {
+    const std::string name = camera.modelName();
+    const std::string file = path("camera_" + name + ".txt");
+    if (name == "eucm" || name == "ds" || name == "ucm-radtan") {
+      EXPECT_THROW(saveDsoCameraTxt(file, camera), Error) << name;
+      continue;
+    }
+    saveDsoCameraTxt(file, camera);
+    EXPECT_EQ(detectCalibrationFormat(file), CalibrationFormat::kDsoCameraTxt);
+    expectSameCamera(loadCalibration(file), camera);
+  }
+}
+
+TEST_F(CalibrationIoTest, ReadsKalibrConventions) {
+  // Kalibr's omni order is [xi, fu, fv, pu, pv]; no cam0 level is needed.
+  const Camera omni = loadCalibration(write("omni.yaml",
+                                            "camera_model: omni\n"
+                                            "intrinsics: [1.1, 500, 501, 320, 240]\n"
+                                            "distortion_model: radtan\n"
+                                            "distortion_coeffs: [0.1, 0.2, 0.3, 0.4]\n"
+                                            "resolution: [640, 480]\n"));
+  EXPECT_EQ(omni.modelName(), "ucm-radtan");
+  EXPECT_EQ(omni.params(), vec({500, 501, 320, 240, 1.1, 0.1, 0.2, 0.3, 0.4}));
+  // pinhole + equidistant is Kannala–Brandt; ds is [xi, alpha, fu, fv, pu, pv].
+  const Camera kb = loadCalibration(write("kb.yaml",
+                                          "cam0:\n  camera_model: pinhole\n"
+                                          "  intrinsics: [190, 191, 254, 256]\n"
+                                          "  distortion_model: equidistant\n"
+                                          "  distortion_coeffs: [0.01, 0.02, 0.03, 0.04]\n"
+                                          "  resolution: [512, 512]\n"
+                                          "  rostopic: /cam0/image_raw\n"));
+  EXPECT_EQ(kb.modelName(), "kb4");
+  EXPECT_EQ(kb.params(), vec({190, 191, 254, 256, 0.01, 0.02, 0.03, 0.04}));
+  const Camera ds = loadCalibration(write("ds.yaml",
+                                          "cam0:\n  camera_model: ds\n"
+                                          "  intrinsics: [-0.2, 0.59, 156, 155, 254, 256]\n"
+                                          "  distortion_model: none\n"
+                                          "  distortion_coeffs: []\n"
+                                          "  resolution: [512, 512]\n"));
+  EXPECT_EQ(ds.modelName(), "ds");
+  EXPECT_EQ(ds.params(), vec({156, 155, 254, 256, -0.2, 0.59}));
+}
+
+TEST_F(CalibrationIoTest, DsoRelativeIntrinsicsAndAliases) {
+  // cx, cy < 1: fractions of the image size, pixel-corner origin → fx·w, cx·w − 0.5.
+  const Camera relative =
+      loadCalibration(write("relative.txt", "Pinhole 0.5 0.6 0.5 0.5 0\n640 480\ncrop\n640 480\n"));
+  EXPECT_EQ(relative.params(), vec({320, 288, 319.5, 239.5}));
+  const Camera equi = loadCalibration(write(
+      "equi.txt", "EquiDistant 190 191 254 256 0.01 0.02 0.03 0.04\n512 512\ncrop\n512 512\n"));
+  EXPECT_EQ(equi.modelName(), "kb4");
+  // DSO reads 8 numbers without a keyword as RadTan.
+  const Camera radtan =
+      loadCalibration(write("bare.txt", "458 457 367 248 -0.28 0.07 0.0002 0.00002\n752 480\n"));
+  EXPECT_EQ(radtan.modelName(), "pinhole-radtan");
+  EXPECT_EQ(radtan.width(), 752);
+  const Camera ucm = loadCalibration(write("ucm.txt", "Omni 200 201 240 239 1.1\n480 480\n"));
+  EXPECT_EQ(ucm.params(), vec({200, 201, 240, 239, 1.1}));
+}
+
+TEST_F(CalibrationIoTest, KalibrErrorsNameTheFileAndField) {
+  struct Case {
+    std::string content;
+    std::string field;
+    std::string reason;
+  };
+  const std::string tail = "  resolution: [640, 480]\n";
+  const std::vector<Case> cases = {
+      {"cam0:\n  camera_model: fancy\n  intrinsics: [1, 2, 3, 4]\n" + tail,
+       "field 'cam0.camera_model'", "unknown camera model 'fancy'"},
+      {"cam0:\n  camera_model: omni\n  intrinsics: [1, 2, 3, 4]\n" + tail,
+       "field 'cam0.intrinsics'", "expected 5 values"},
+      {"cam0:\n  camera_model: pinhole\n  intrinsics: [-400, 400, 320, 240]\n" + tail,
+       "field 'cam0.intrinsics'", "must be positive"},
+      {"cam0:\n  camera_model: pinhole\n  intrinsics: [400, .nan, 320, 240]\n" + tail,
+       "field 'cam0.intrinsics'", "element 1 is not a finite number"},
+      {"cam0:\n  camera_model: pinhole\n  intrinsics: [400, abc, 320, 240]\n" + tail,
+       "field 'cam0.intrinsics'", "element 1 is not a number"},
+      {"cam0:\n  camera_model: omni\n  intrinsics: [-1, 400, 400, 320, 240]\n" + tail,
+       "field 'cam0.intrinsics'", "xi must be >= 0"},
+      {"cam0:\n  camera_model: pinhole\n  intrinsics: [400, 400, 320, 240]\n"
+       "  distortion_model: radtan\n  distortion_coeffs: [0.1, 0.2]\n" +
+           tail,
+       "field 'cam0.distortion_coeffs'", "expected 4 values"},
+      {"cam0:\n  camera_model: eucm\n  intrinsics: [0.5, 1, 400, 400, 320, 240]\n"
+       "  distortion_model: radtan\n  distortion_coeffs: [0, 0, 0, 0]\n" +
+           tail,
+       "field 'cam0.distortion_model'", "not supported with camera_model 'eucm'"},
+      {"cam0:\n  camera_model: pinhole\n  intrinsics: [400, 400, 320, 240]\n"
+       "  resolution: [640]\n",
+       "field 'cam0.resolution'", "expected 2 values"},
+      {"cam0:\n  intrinsics: [400, 400, 320, 240]\n" + tail, "field 'cam0.camera_model'",
+       "missing"},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const std::string file = write("bad_" + std::to_string(i) + ".yaml", cases[i].content);
+    const std::string message = loadError(file);
+    EXPECT_NE(message.find(file), std::string::npos) << message;
+    EXPECT_NE(message.find(cases[i].field), std::string::npos) << message;
+    EXPECT_NE(message.find(cases[i].reason), std::string::npos) << message;
+  }
+}
+
+TEST_F(CalibrationIoTest, MalformedYamlNamesTheFileAndLine) {
+  const std::string file =
+      write("malformed.yaml", "cam0:\n  camera_model: pinhole\n  intrinsics: [1, 2\n");
+  const std::string message = loadError(file);
+  EXPECT_NE(message.find(file + ":"), std::string::npos) << message;
+  EXPECT_NE(message.find("malformed YAML"), std::string::npos) << message;
+}
+
+TEST_F(CalibrationIoTest, DsoErrorsNameTheFileAndLine) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"Fisheye 1 2 3 4 5\n640 480\n", ":1: unknown camera model 'Fisheye'"},
+      {"Pinhole 400 400 320\n640 480\n", ":1: camera model 'pinhole' takes 5 numbers, got 3"},
+      {"Pinhole -400 400 320 240 0\n640 480\n", ":1: camera model 'pinhole': focal lengths"},
+      {"Pinhole 400 nan 320 240 0\n640 480\n", ":1: 'nan' is not finite"},
+      {"Pinhole 400 400 320 240 0\n640 x\n", ":2: expected 'in_width in_height'"},
+      {"Pinhole 400 400 320 240 0\n640 480\nsquash\n640 480\n", ":3: expected 'crop'"},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const std::string file = write("bad_" + std::to_string(i) + ".txt", cases[i].first);
+    const std::string message = loadError(file);
+    EXPECT_NE(message.find(file + cases[i].second), std::string::npos) << message;
+  }
+}
+
+TEST_F(CalibrationIoTest, ReadsEurocSensorYaml) {
+  const auto dir = test::sharedDataDir("euroc_v101_static_clip");
+  if (!dir) GTEST_SKIP() << test::missingDataMessage("euroc_v101_static_clip");
+  const std::string file = (*dir / "mav0" / "cam0" / "sensor.yaml").string();
+  EXPECT_EQ(detectCalibrationFormat(file), CalibrationFormat::kEurocSensor);
+  const SensorCalibration calib = loadEurocSensor(file);
+  EXPECT_EQ(calib.camera.modelName(), "pinhole-radtan");
+  EXPECT_EQ(calib.camera.width(), 752);
+  EXPECT_EQ(calib.camera.height(), 480);
+  EXPECT_EQ(calib.camera.params(), vec({458.654, 457.296, 367.215, 248.375, -0.28340811, 0.07395907,
+                                        0.00019359, 1.76187114e-05}));
+  // The published T_BS (row-major): translation as stored; rotation orthonormal to ~1e-9.
+  EXPECT_EQ(calib.T_body_sensor.translation(),
+            Eigen::Vector3d(-0.0216401454975, -0.064676986768, 0.00981073058949));
+  EXPECT_NEAR(calib.T_body_sensor.rotationMatrix()(0, 1), -0.999880929698, 1e-8);
+  EXPECT_EQ(loadCalibration(file).modelName(), "pinhole-radtan");
+}
+
+}  // namespace
+}  // namespace omnidso
