@@ -9,6 +9,10 @@ int main(int argc, char** argv) {
                "omnidirectional cameras"};
   app.require_subcommand(1);
   omnidso::cli::registerCameraCommand(app);
+  omnidso::cli::registerEvalCommand(app);
+  omnidso::cli::registerSynthCommand(app);
+  omnidso::cli::registerDatasetCommand(app);
+  omnidso::cli::registerRunCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -9,5 +9,9 @@ class App;
 namespace omnidso::cli {
 
 void registerCameraCommand(CLI::App& app);  // omnidso camera info|convert
+void registerEvalCommand(CLI::App& app);    // omnidso eval (ATE, RPE)
+void registerSynthCommand(CLI::App& app);    // omnidso synth (synthetic datasets)
+void registerDatasetCommand(CLI::App& app);  // omnidso dataset info
+void registerRunCommand(CLI::App& app);      // omnidso run (the odometry)
 
 }  // namespace omnidso::cli

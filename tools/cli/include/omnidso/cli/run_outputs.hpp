@@ -1,0 +1,42 @@
+#pragma once
+// What `omnidso run` writes into its output directory:
+//   frames.txt, keyframes.txt  TUM format `t tx ty tz qx qy qz qw`, T_world_cam, dataset
+//                              timestamps (frames: every tracked frame, through the final
+//                              estimate of its reference keyframe)
+//   points.ply                 ASCII PLY: x y z intensity segment (marginalised + active)
+//   timing.csv                 frame,timestamp,tracked,keyframe,segment,tracking_ms,mapping_ms
+//   summary.json               settings, counts, timing statistics, segments and events,
+//                              and — with ground truth — ATE after Sim(3) alignment per segment
+// Trajectory segments (after a tracking loss) have separate gauges; each is evaluated on its
+// own, and the headline ATE is that of the segment with the most keyframes.
+
+#include <nlohmann/json.hpp>
+#include <omnidso/core/dataset.hpp>
+#include <omnidso/frontend/odometry.hpp>
+#include <ostream>
+#include <string>
+
+namespace omnidso::cli {
+
+struct RunDescription {
+  std::string dataset;
+  std::string camera_model_option;
+  std::string source_camera;
+  std::string odometry_camera;
+  int keyframes = 7;
+  int points = 2000;
+  bool optimize_intrinsics = true;
+  std::uint64_t seed = 0;
+  int threads = 1;
+  std::string residuals;
+  size_t frames_processed = 0;
+  double wall_s = 0.0;
+};
+
+nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& index,
+                               const Odometry& odometry, const RunDescription& description);
+
+// The human-readable lines `omnidso run` and `make demo` print.
+void printRunSummary(std::ostream& os, const nlohmann::json& summary);
+
+}  // namespace omnidso::cli

@@ -1,0 +1,201 @@
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <omnidso/cli/run_outputs.hpp>
+#include <omnidso/core/error.hpp>
+#include <omnidso/core/metrics.hpp>
+#include <omnidso/core/trajectory_io.hpp>
+#include <omnidso/synth/dataset_loading.hpp>
+
+namespace omnidso::cli {
+namespace {
+
+struct Stats {
+  double mean = 0.0, median = 0.0;
+  size_t count = 0;
+};
+
+Stats stats(std::vector<double> v) {
+  Stats s;
+  s.count = v.size();
+  if (v.empty()) return s;
+  double sum = 0.0;
+  for (double x : v) sum += x;
+  s.mean = sum / v.size();
+  std::sort(v.begin(), v.end());
+  s.median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  return s;
+}
+
+nlohmann::json toJson(const Stats& s) {
+  return {{"mean", s.mean}, {"median", s.median}, {"count", s.count}};
+}
+
+// Length of the ground-truth path between two times (all its poses, not only matched ones).
+double pathLength(const Trajectory& gt, double t0, double t1) {
+  double length = 0.0;
+  const StampedPose* last = nullptr;
+  for (const StampedPose& p : gt) {
+    if (p.timestamp < t0 || p.timestamp > t1) continue;
+    if (last) length += (p.pose.translation() - last->pose.translation()).norm();
+    last = &p;
+  }
+  return length;
+}
+
+nlohmann::json evaluateSegment(const Trajectory& gt, const Trajectory& est, double max_dt) {
+  nlohmann::json j;
+  try {
+    EvaluationOptions options;
+    options.alignment = AlignmentType::kSim3;
+    options.max_dt = max_dt;
+    const EvaluationResult r = evaluate(gt, est, options);
+    const double length = pathLength(gt, est.front().timestamp, est.back().timestamp);
+    j["rmse_m"] = r.ate.rmse;
+    j["mean_m"] = r.ate.mean;
+    j["median_m"] = r.ate.median;
+    j["max_m"] = r.ate.max;
+    j["matched"] = r.ate.count;
+    j["gt_path_length_m"] = length;
+    if (length > 0) j["rmse_percent_of_path"] = 100.0 * r.ate.rmse / length;
+    j["sim3_scale"] = r.alignment.scale();
+  } catch (const Error& e) {
+    j["error"] = e.what();
+  }
+  return j;
+}
+
+void writeTum(const std::string& path, const Trajectory& t) { writeTrajectoryTum(path, t); }
+
+}  // namespace
+
+nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& index,
+                               const Odometry& odometry, const RunDescription& d) {
+  // Trajectories, per segment and all together.
+  std::map<int, Trajectory> frames_by_segment, keyframes_by_segment;
+  Trajectory all_frames, all_keyframes;
+  for (const FrameRecord& f : odometry.frames()) {
+    if (!f.tracked) continue;
+    const StampedPose p{f.timestamp, odometry.framePose(f)};
+    frames_by_segment[f.segment].push_back(p);
+    all_frames.push_back(p);
+  }
+  for (const KeyframeRecord& k : odometry.keyframes()) {
+    const StampedPose p{k.timestamp, k.T_world_cam};
+    keyframes_by_segment[k.segment].push_back(p);
+    all_keyframes.push_back(p);
+  }
+  writeTum(out_dir + "/frames.txt", all_frames);
+  writeTum(out_dir + "/keyframes.txt", all_keyframes);
+
+  const std::vector<OdometryPoint> points = odometry.points();
+  {
+    std::ofstream ply(out_dir + "/points.ply");
+    if (!ply) throw Error(out_dir + "/points.ply: cannot write");
+    ply << "ply\nformat ascii 1.0\nelement vertex " << points.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\n"
+           "property float intensity\nproperty int segment\nend_header\n";
+    for (const OdometryPoint& p : points)
+      ply << fmt::format("{:.6f} {:.6f} {:.6f} {:.2f} {}\n", p.position_world.x(),
+                         p.position_world.y(), p.position_world.z(), p.intensity, p.segment);
+  }
+  std::vector<double> tracking_ms, mapping_ms;
+  {
+    std::ofstream csv(out_dir + "/timing.csv");
+    if (!csv) throw Error(out_dir + "/timing.csv: cannot write");
+    csv << "frame,timestamp,tracked,keyframe,segment,tracking_ms,mapping_ms\n";
+    for (const FrameRecord& f : odometry.frames()) {
+      csv << fmt::format("{},{:.9f},{},{},{},{:.3f},{:.3f}\n", f.index, f.timestamp,
+                         f.tracked ? 1 : 0, f.is_keyframe ? 1 : 0, f.segment,
+                         f.timing.tracking_ms, f.timing.mapping_ms);
+      if (f.tracked && !f.is_keyframe) tracking_ms.push_back(f.timing.tracking_ms);
+      if (f.is_keyframe && f.timing.mapping_ms > 0) mapping_ms.push_back(f.timing.mapping_ms);
+      if (f.tracked && f.is_keyframe && f.timing.tracking_ms > 0)
+        tracking_ms.push_back(f.timing.tracking_ms);
+    }
+  }
+
+  nlohmann::json s;
+  s["settings"] = {{"dataset", d.dataset},
+                   {"camera_model", d.camera_model_option},
+                   {"dataset_camera", d.source_camera},
+                   {"odometry_camera", d.odometry_camera},
+                   {"keyframes", d.keyframes},
+                   {"points", d.points},
+                   {"optimize_intrinsics", d.optimize_intrinsics},
+                   {"seed", d.seed},
+                   {"threads", d.threads},
+                   {"residuals", d.residuals}};
+  s["counts"] = {{"frames", d.frames_processed},
+                 {"tracked_frames", all_frames.size()},
+                 {"keyframes", all_keyframes.size()},
+                 {"points", points.size()},
+                 {"segments", frames_by_segment.size()}};
+  s["timing"] = {{"tracking_ms_per_frame", toJson(stats(tracking_ms))},
+                 {"mapping_ms_per_keyframe", toJson(stats(mapping_ms))},
+                 {"wall_s", d.wall_s}};
+  s["events"] = odometry.log();
+  s["initialized"] = !all_keyframes.empty();
+  if (!odometry.initialized()) s["initialization_status"] = odometry.initializationStatus();
+
+  if (index.groundtruth_path && !all_keyframes.empty()) {
+    const Trajectory gt = synth::cameraGroundTruth(index);
+    const double rate = datasetFrameRate(index);
+    const double max_dt = rate > 0 ? 0.5 / rate : 0.02;
+    nlohmann::json segments = nlohmann::json::array();
+    int best = -1;
+    size_t best_count = 0;
+    for (const auto& [seg, kfs] : keyframes_by_segment) {
+      nlohmann::json j;
+      j["segment"] = seg;
+      j["keyframes"] = kfs.size();
+      j["keyframe_ate"] = evaluateSegment(gt, kfs, max_dt);
+      j["frame_ate"] = evaluateSegment(gt, frames_by_segment[seg], max_dt);
+      if (kfs.size() > best_count) {
+        best_count = kfs.size();
+        best = static_cast<int>(segments.size());
+      }
+      segments.push_back(j);
+    }
+    s["ate_segments"] = segments;
+    if (best >= 0) s["ate"] = segments[best];
+  }
+  std::ofstream(out_dir + "/summary.json") << s.dump(2) << "\n";
+  return s;
+}
+
+void printRunSummary(std::ostream& os, const nlohmann::json& s) {
+  const auto& c = s["counts"];
+  os << fmt::format("frames {}  tracked {}  keyframes {}  points {}  segments {}\n",
+                    c["frames"].get<size_t>(), c["tracked_frames"].get<size_t>(),
+                    c["keyframes"].get<size_t>(), c["points"].get<size_t>(),
+                    c["segments"].get<size_t>());
+  const auto& t = s["timing"];
+  os << fmt::format("tracking  mean {:.1f} ms  median {:.1f} ms per frame\n",
+                    t["tracking_ms_per_frame"]["mean"].get<double>(),
+                    t["tracking_ms_per_frame"]["median"].get<double>());
+  os << fmt::format("mapping   mean {:.1f} ms  median {:.1f} ms per keyframe\n",
+                    t["mapping_ms_per_keyframe"]["mean"].get<double>(),
+                    t["mapping_ms_per_keyframe"]["median"].get<double>());
+  for (const auto& e : s["events"]) os << "event: " << e.get<std::string>() << "\n";
+  if (s.contains("initialization_status"))
+    os << "not initialised: " << s["initialization_status"].get<std::string>() << "\n";
+  if (s.contains("ate")) {
+    const auto& a = s["ate"]["keyframe_ate"];
+    if (a.contains("rmse_m")) {
+      os << fmt::format("keyframe ATE (Sim(3)-aligned, segment {}): RMSE {:.4f} m = {:.3f} % of "
+                        "the {:.2f} m path\n",
+                        s["ate"]["segment"].get<int>(), a["rmse_m"].get<double>(),
+                        a["rmse_percent_of_path"].is_number()
+                            ? a["rmse_percent_of_path"].get<double>()
+                            : 0.0,
+                        a["gt_path_length_m"].get<double>());
+    } else {
+      os << "keyframe ATE: " << a["error"].get<std::string>() << "\n";
+    }
+  }
+}
+
+}  // namespace omnidso::cli
