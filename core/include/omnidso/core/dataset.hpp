@@ -1,0 +1,88 @@
+#pragma once
+// Dataset readers: an index of the frames of a sequence on disk, without decoding images.
+//
+// Two layouts (docs/architecture.md, ../shared/design.md):
+// - TUM mono / omni: DIR/times.txt (lines `ID TIMESTAMP_S [EXPOSURE_MS]`, '#' comments),
+//   DIR/images/ID.png|.jpg (ID of any width: the file name without extension), calibration
+//   DIR/camchain.yaml (Kalibr) and/or DIR/camera.txt (DSO), optional DIR/pcalib.txt,
+//   DIR/vignette.png and DIR/groundtruth.txt (TUM format, T_world_cam).
+// - ASL (EuRoC, TUM VI): DIR/mav0/cam0/data.csv (`#timestamp [ns],filename`),
+//   DIR/mav0/cam0/data/*.png, DIR/mav0/cam0/sensor.yaml, and ground truth of the BODY in
+//   DIR/mav0/state_groundtruth_estimate0/data.csv (or mav0/mocap0/data.csv). The camera
+//   pose is T_world_body · T_BS; T_BS is in sensor.yaml, which the cameras library reads,
+//   so that composition lives outside core (omnidso::synth::cameraGroundTruth).
+// The ASL layout records no exposure time: exposure_ms is 0, meaning "unknown".
+//
+// Core does not parse calibration files (that needs omnidso::cameras): the index gives
+// their paths. Bad datasets throw omnidso::Error naming the file and the line.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <omnidso/core/image.hpp>
+
+namespace omnidso {
+
+enum class DatasetLayout { kTum, kAsl };
+
+const char* datasetLayoutName(DatasetLayout layout);  // "tum" | "asl"
+
+// Which frame the ground-truth poses belong to.
+enum class GroundTruthKind {
+  kNone,
+  kCameraTum,  // TUM text file `t tx ty tz qx qy qz qw`, T_world_cam
+  kBodyAsl,    // ASL csv `t_ns, px, py, pz, qw, qx, qy, qz, ...`, T_world_body
+};
+
+struct DatasetFrame {
+  std::string id;          // image file name without extension, as written in the index
+  std::string image_path;  // absolute or relative to the working directory
+  double timestamp_s = 0;
+  double exposure_ms = 0;  // 0 = unknown (ASL records none)
+  std::string index_file;  // times.txt or data.csv, and the line of this frame in it,
+  int index_line = 0;      // so that errors about the image can point at both
+};
+
+struct DatasetIndex {
+  std::string root;
+  DatasetLayout layout = DatasetLayout::kTum;
+  std::vector<DatasetFrame> frames;  // timestamps strictly increasing
+  int width = 0;                     // of the first image
+  int height = 0;
+  std::vector<std::string> calibration_paths;  // existing files, preferred first
+  std::optional<std::string> pcalib_path;
+  std::optional<std::string> vignette_path;
+  std::optional<std::string> groundtruth_path;
+  GroundTruthKind groundtruth_kind = GroundTruthKind::kNone;
+};
+
+// Detects the layout (TUM if DIR/times.txt or DIR/images exists, ASL if DIR/mav0 exists),
+// reads the frame list, checks that every listed image exists and that timestamps
+// increase, and reads the first image's size from its header.
+DatasetIndex openDataset(const std::string& path);
+
+// Width and height from the image file's header (PNG and JPEG parsed directly, and their
+// end marker checked so that truncated files are caught without decoding; other formats
+// decoded with OpenCV). Throws omnidso::Error when the file is unreadable or truncated.
+struct ImageSize {
+  int width = 0;
+  int height = 0;
+};
+ImageSize readImageSize(const std::string& image_path);
+
+// Reads every frame's image header and checks that all sizes equal the first image's:
+// the one-second health check of `omnidso dataset info`. With decode, every image is also
+// decoded (finds corruption inside a file; ~1–4 ms per frame).
+void verifyDatasetImages(const DatasetIndex& index, bool decode = false);
+
+// Decodes frame i as 8-bit grey (16-bit images are scaled by 1/257); throws when the
+// image is unreadable or its size differs from the index's.
+ImageU8 readDatasetFrame(const DatasetIndex& index, std::size_t i);
+
+// Time span (last − first timestamp) and mean frame rate (frames−1 over the span).
+double datasetDuration(const DatasetIndex& index);
+double datasetFrameRate(const DatasetIndex& index);
+
+}  // namespace omnidso

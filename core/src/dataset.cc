@@ -1,0 +1,148 @@
+// Layout detection and the checks common to every dataset layout.
+#include <omnidso/core/dataset.hpp>
+
+#include <filesystem>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <omnidso/core/error.hpp>
+
+#include "dataset_detail.hpp"
+
+namespace omnidso {
+namespace fs = std::filesystem;
+
+namespace dataset_detail {
+
+std::vector<std::string> splitFields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::string current;
+  for (const char c : line) {
+    if (c == ',' || c == ' ' || c == '\t' || c == '\r') {
+      if (!current.empty()) fields.push_back(current);
+      current.clear();
+    } else {
+      current.push_back(c);
+    }
+  }
+  if (!current.empty()) fields.push_back(current);
+  return fields;
+}
+
+double parseNumber(const std::string& text, const std::string& file, int line,
+                   const std::string& what) {
+  try {
+    std::size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used == text.size()) return value;
+  } catch (const std::exception&) {
+  }
+  throw fileError(file, line, fmt::format("{} '{}' is not a number", what, text));
+}
+
+}  // namespace dataset_detail
+
+const char* datasetLayoutName(DatasetLayout layout) {
+  return layout == DatasetLayout::kTum ? "tum" : "asl";
+}
+
+DatasetIndex openDataset(const std::string& path) {
+  if (!fs::is_directory(path)) throw fileError(path, "dataset directory not found");
+  const fs::path root(path);
+  DatasetIndex index;
+  if (fs::exists(root / "times.txt") || fs::exists(root / "images")) {
+    index = dataset_detail::readTumIndex(path);
+  } else if (fs::exists(root / "mav0")) {
+    index = dataset_detail::readAslIndex(path);
+  } else {
+    throw fileError(path,
+                    "not a dataset: expected times.txt and images/ (TUM layout) or "
+                    "mav0/cam0/data.csv (ASL layout)");
+  }
+  // Strictly increasing timestamps: the odometry and the evaluation order frames by time.
+  for (std::size_t i = 1; i < index.frames.size(); ++i) {
+    const DatasetFrame& previous = index.frames[i - 1];
+    const DatasetFrame& frame = index.frames[i];
+    if (!(frame.timestamp_s > previous.timestamp_s)) {
+      throw fileError(frame.index_file, frame.index_line,
+                      fmt::format("timestamp {:.9f} s is not after the previous one ({:.9f} s, "
+                                  "line {})",
+                                  frame.timestamp_s, previous.timestamp_s,
+                                  previous.index_line));
+    }
+  }
+  const DatasetFrame& first = index.frames.front();
+  ImageSize size;
+  try {
+    size = readImageSize(first.image_path);
+  } catch (const Error& e) {
+    throw fileError(first.index_file, first.index_line, e.what());
+  }
+  index.width = size.width;
+  index.height = size.height;
+  return index;
+}
+
+void verifyDatasetImages(const DatasetIndex& index, bool decode) {
+  for (size_t i = 0; i < index.frames.size(); ++i) {
+    const DatasetFrame& frame = index.frames[i];
+    if (decode) {
+      readDatasetFrame(index, i);
+      continue;
+    }
+    ImageSize size;
+    try {
+      size = readImageSize(frame.image_path);
+    } catch (const Error& e) {
+      throw fileError(frame.index_file, frame.index_line, e.what());
+    }
+    if (size.width != index.width || size.height != index.height) {
+      throw fileError(frame.index_file, frame.index_line,
+                      fmt::format("image {} is {}x{}, but the first image is {}x{}",
+                                  frame.image_path, size.width, size.height, index.width,
+                                  index.height));
+    }
+  }
+}
+
+ImageU8 readDatasetFrame(const DatasetIndex& index, std::size_t i) {
+  const DatasetFrame& frame = index.frames.at(i);
+  const cv::Mat raw = cv::imread(frame.image_path, cv::IMREAD_UNCHANGED);
+  if (raw.empty()) {
+    throw fileError(frame.index_file, frame.index_line,
+                    fmt::format("image {} is unreadable", frame.image_path));
+  }
+  if (raw.cols != index.width || raw.rows != index.height) {
+    throw fileError(frame.index_file, frame.index_line,
+                    fmt::format("image {} is {}x{}, but the first image is {}x{}",
+                                frame.image_path, raw.cols, raw.rows, index.width,
+                                index.height));
+  }
+  cv::Mat grey = raw;
+  if (raw.channels() == 3) cv::cvtColor(raw, grey, cv::COLOR_BGR2GRAY);
+  if (raw.channels() == 4) cv::cvtColor(raw, grey, cv::COLOR_BGRA2GRAY);
+  cv::Mat grey8 = grey;
+  // 16-bit → 8-bit: 65535/255 = 257 maps full scale to full scale.
+  if (grey.depth() == CV_16U) grey.convertTo(grey8, CV_8U, 1.0 / 257.0);
+  ImageU8 out(grey8.cols, grey8.rows);
+  for (int v = 0; v < grey8.rows; ++v) {
+    const std::uint8_t* src = grey8.ptr<std::uint8_t>(v);
+    std::copy(src, src + grey8.cols, out.row(v));
+  }
+  return out;
+}
+
+double datasetDuration(const DatasetIndex& index) {
+  if (index.frames.size() < 2) return 0.0;
+  return index.frames.back().timestamp_s - index.frames.front().timestamp_s;
+}
+
+double datasetFrameRate(const DatasetIndex& index) {
+  const double duration = datasetDuration(index);
+  return duration > 0 ? static_cast<double>(index.frames.size() - 1) / duration : 0.0;
+}
+
+}  // namespace omnidso

@@ -1,0 +1,90 @@
+// The ASL layout of EuRoC and TUM VI: mav0/cam0/data.csv + mav0/cam0/data/*.png.
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include <omnidso/core/error.hpp>
+
+#include "dataset_detail.hpp"
+
+namespace omnidso::dataset_detail {
+namespace fs = std::filesystem;
+
+DatasetIndex readAslIndex(const std::string& root_path) {
+  const fs::path root(root_path);
+  const fs::path cam_dir = root / "mav0" / "cam0";
+  const std::string csv_path = (cam_dir / "data.csv").string();
+  std::ifstream csv(csv_path);
+  if (!csv) throw fileError(csv_path, "missing: the ASL layout lists its frames here");
+
+  DatasetIndex index;
+  index.root = root_path;
+  index.layout = DatasetLayout::kAsl;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(csv, line)) {
+    ++line_number;
+    const std::vector<std::string> fields = splitFields(line);
+    if (fields.empty() || fields[0][0] == '#') continue;
+    if (fields.size() != 2) {
+      throw fileError(csv_path, line_number,
+                      fmt::format("expected 'TIMESTAMP_NS,FILENAME', got {} fields",
+                                  fields.size()));
+    }
+    DatasetFrame frame;
+    // Nanoseconds since the epoch: ~1.4e18 exceeds double's 2^53 integer range, so split
+    // into seconds and the remainder before converting (keeps sub-microsecond accuracy).
+    const std::string& stamp = fields[0];
+    if (stamp.find_first_not_of("0123456789") != std::string::npos || stamp.size() > 19) {
+      throw fileError(csv_path, line_number,
+                      fmt::format("timestamp '{}' is not an integer in nanoseconds", stamp));
+    }
+    const long long ns = std::stoll(stamp);
+    frame.timestamp_s = static_cast<double>(ns / 1000000000LL) +
+                        static_cast<double>(ns % 1000000000LL) * 1e-9;
+    frame.exposure_ms = 0.0;  // unknown: the ASL layout does not record it
+    frame.id = fs::path(fields[1]).stem().string();
+    const fs::path image = cam_dir / "data" / fields[1];
+    if (!fs::is_regular_file(image)) {
+      throw fileError(csv_path, line_number,
+                      fmt::format("image '{}' not found", image.string()));
+    }
+    frame.image_path = image.string();
+    frame.index_file = csv_path;
+    frame.index_line = line_number;
+    index.frames.push_back(std::move(frame));
+  }
+  if (index.frames.empty()) throw fileError(csv_path, "empty: no frames listed");
+
+  if (fs::is_regular_file(cam_dir / "sensor.yaml")) {
+    index.calibration_paths.push_back((cam_dir / "sensor.yaml").string());
+  }
+  // TUM VI ships Kalibr/DSO calibrations next to mav0/ in its "dso" folder.
+  for (const fs::path& extra : {root / "camchain.yaml", root / "dso" / "camchain.yaml",
+                                root / "camera.txt", root / "dso" / "camera.txt"}) {
+    if (fs::is_regular_file(extra)) index.calibration_paths.push_back(extra.string());
+  }
+  for (const fs::path& photometric : {root / "pcalib.txt", root / "dso" / "pcalib.txt"}) {
+    if (!index.pcalib_path && fs::is_regular_file(photometric)) {
+      index.pcalib_path = photometric.string();
+    }
+  }
+  for (const fs::path& vignette : {root / "vignette.png", root / "dso" / "cam0" / "vignette.png",
+                                   root / "dso" / "vignette.png"}) {
+    if (!index.vignette_path && fs::is_regular_file(vignette)) {
+      index.vignette_path = vignette.string();
+    }
+  }
+  for (const fs::path& gt : {root / "mav0" / "state_groundtruth_estimate0" / "data.csv",
+                             root / "mav0" / "mocap0" / "data.csv"}) {
+    if (fs::is_regular_file(gt)) {
+      index.groundtruth_path = gt.string();
+      index.groundtruth_kind = GroundTruthKind::kBodyAsl;
+      break;
+    }
+  }
+  return index;
+}
+
+}  // namespace omnidso::dataset_detail

@@ -1,0 +1,98 @@
+// The TUM mono / omni layout: times.txt + images/ID.(png|jpg).
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include <fmt/format.h>
+
+#include <omnidso/core/error.hpp>
+
+#include "dataset_detail.hpp"
+
+namespace omnidso::dataset_detail {
+namespace fs = std::filesystem;
+
+namespace {
+
+bool isImageExtension(const std::string& ext) {
+  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".PNG" || ext == ".JPG";
+}
+
+// File stem → path of every image in images/, listed once so that a lookup per frame is
+// a map search, not a file-system call per extension.
+std::map<std::string, std::string> listImages(const fs::path& dir) {
+  std::map<std::string, std::string> images;
+  if (!fs::is_directory(dir)) return images;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
+    if (!entry.is_regular_file() || !isImageExtension(entry.path().extension().string())) {
+      continue;
+    }
+    images.emplace(entry.path().stem().string(), entry.path().string());
+  }
+  return images;
+}
+
+void addIfExists(const fs::path& file, std::optional<std::string>& out) {
+  if (fs::is_regular_file(file)) out = file.string();
+}
+
+}  // namespace
+
+DatasetIndex readTumIndex(const std::string& root_path) {
+  const fs::path root(root_path);
+  const std::string times_path = (root / "times.txt").string();
+  std::ifstream times(times_path);
+  if (!times) throw fileError(times_path, "missing: the TUM layout lists its frames here");
+  const fs::path images_dir = root / "images";
+  if (!fs::is_directory(images_dir)) {
+    throw fileError(images_dir.string(), "missing: the TUM layout keeps its frames here");
+  }
+  const std::map<std::string, std::string> images = listImages(images_dir);
+
+  DatasetIndex index;
+  index.root = root_path;
+  index.layout = DatasetLayout::kTum;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(times, line)) {
+    ++line_number;
+    const std::vector<std::string> fields = splitFields(line);
+    if (fields.empty() || fields[0][0] == '#') continue;
+    if (fields.size() < 2 || fields.size() > 3) {
+      throw fileError(times_path, line_number,
+                      fmt::format("expected 'ID TIMESTAMP_S [EXPOSURE_MS]', got {} fields",
+                                  fields.size()));
+    }
+    DatasetFrame frame;
+    frame.id = fields[0];
+    frame.timestamp_s = parseNumber(fields[1], times_path, line_number, "timestamp");
+    if (fields.size() == 3) {
+      frame.exposure_ms = parseNumber(fields[2], times_path, line_number, "exposure");
+      if (frame.exposure_ms < 0) {
+        throw fileError(times_path, line_number, "exposure time is negative");
+      }
+    }
+    const auto image = images.find(frame.id);
+    if (image == images.end()) {
+      throw fileError(times_path, line_number,
+                      fmt::format("image '{}' not found in {} (.png or .jpg)", frame.id,
+                                  images_dir.string()));
+    }
+    frame.image_path = image->second;
+    frame.index_file = times_path;
+    frame.index_line = line_number;
+    index.frames.push_back(std::move(frame));
+  }
+  if (index.frames.empty()) throw fileError(times_path, "empty: no frames listed");
+
+  for (const char* name : {"camchain.yaml", "camera.txt"}) {
+    if (fs::is_regular_file(root / name)) index.calibration_paths.push_back((root / name).string());
+  }
+  addIfExists(root / "pcalib.txt", index.pcalib_path);
+  addIfExists(root / "vignette.png", index.vignette_path);
+  addIfExists(root / "groundtruth.txt", index.groundtruth_path);
+  if (index.groundtruth_path) index.groundtruth_kind = GroundTruthKind::kCameraTum;
+  return index;
+}
+
+}  // namespace omnidso::dataset_detail

@@ -1,0 +1,237 @@
+// The dataset readers: TUM mono/omni and ASL layouts, and each bad-dataset error.
+#include <omnidso/core/dataset.hpp>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <omnidso/core/error.hpp>
+
+#include "test_data.hpp"
+
+namespace omnidso {
+namespace {
+namespace fs = std::filesystem;
+
+// A fresh directory per test, removed afterwards.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& name)
+      : path_(fs::temp_directory_path() /
+              ("omnidso_dataset_test_" + name + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+void writeText(const fs::path& file, const std::string& text) {
+  std::ofstream out(file);
+  out << text;
+}
+
+void writeGreyImage(const fs::path& file, int width, int height, int value) {
+  cv::imwrite(file.string(), cv::Mat(height, width, CV_8UC1, cv::Scalar(value)));
+}
+
+// A TUM-layout dataset of three 16×12 frames with IDs of width 3 and mixed extensions.
+void writeTumDataset(const fs::path& dir) {
+  fs::create_directories(dir / "images");
+  writeGreyImage(dir / "images" / "000.png", 16, 12, 10);
+  writeGreyImage(dir / "images" / "001.jpg", 16, 12, 20);
+  writeGreyImage(dir / "images" / "002.png", 16, 12, 30);
+  writeText(dir / "times.txt",
+            "# id t exposure\n000 1.0 10.5\n001 1.05 11.0\n\n002 1.1 11.5\n");
+}
+
+// Runs openDataset + verifyDatasetImages and returns the error message ("" if none).
+std::string openError(const fs::path& dir) {
+  try {
+    verifyDatasetImages(openDataset(dir.string()));
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DatasetTest, ReadsTumLayoutWithAnyIdWidthAndExtension) {
+  TempDir tmp("tum");
+  writeTumDataset(tmp.path());
+  writeText(tmp.path() / "camchain.yaml", "cam0: {}\n");
+  writeText(tmp.path() / "pcalib.txt", "0 1 2\n");
+  const DatasetIndex index = openDataset(tmp.path().string());
+  EXPECT_EQ(index.layout, DatasetLayout::kTum);
+  ASSERT_EQ(index.frames.size(), 3u);
+  EXPECT_EQ(index.frames[1].id, "001");
+  EXPECT_EQ(fs::path(index.frames[1].image_path).extension(), ".jpg");
+  EXPECT_DOUBLE_EQ(index.frames[2].timestamp_s, 1.1);
+  EXPECT_DOUBLE_EQ(index.frames[2].exposure_ms, 11.5);
+  EXPECT_EQ(index.frames[2].index_line, 5);
+  EXPECT_EQ(index.width, 16);
+  EXPECT_EQ(index.height, 12);
+  ASSERT_EQ(index.calibration_paths.size(), 1u);
+  EXPECT_TRUE(index.pcalib_path.has_value());
+  EXPECT_FALSE(index.vignette_path.has_value());
+  EXPECT_EQ(index.groundtruth_kind, GroundTruthKind::kNone);
+  EXPECT_NO_THROW(verifyDatasetImages(index));
+  // JPEG is lossy, but a constant image stays within a grey level of its value.
+  EXPECT_NEAR(readDatasetFrame(index, 1)(5, 5), 20, 1);
+  EXPECT_EQ(readDatasetFrame(index, 2)(0, 0), 30);
+  EXPECT_NEAR(datasetFrameRate(index), 20.0, 1e-9);
+}
+
+TEST(DatasetTest, ReadsImageSizeFromPngAndJpegHeaders) {
+  TempDir tmp("size");
+  writeGreyImage(tmp.path() / "a.png", 37, 21, 0);
+  writeGreyImage(tmp.path() / "b.jpg", 45, 19, 0);
+  EXPECT_EQ(readImageSize((tmp.path() / "a.png").string()).width, 37);
+  EXPECT_EQ(readImageSize((tmp.path() / "a.png").string()).height, 21);
+  EXPECT_EQ(readImageSize((tmp.path() / "b.jpg").string()).width, 45);
+  EXPECT_EQ(readImageSize((tmp.path() / "b.jpg").string()).height, 19);
+}
+
+TEST(DatasetTest, RejectsMissingTimesFile) {
+  TempDir tmp("no_times");
+  writeTumDataset(tmp.path());
+  fs::remove(tmp.path() / "times.txt");
+  const std::string error = openError(tmp.path());
+  EXPECT_NE(error.find("times.txt: missing"), std::string::npos) << error;
+}
+
+TEST(DatasetTest, RejectsEmptyTimesFile) {
+  TempDir tmp("empty_times");
+  writeTumDataset(tmp.path());
+  writeText(tmp.path() / "times.txt", "# nothing\n");
+  const std::string error = openError(tmp.path());
+  EXPECT_NE(error.find("times.txt: empty"), std::string::npos) << error;
+}
+
+TEST(DatasetTest, RejectsTimestampWithoutImage) {
+  TempDir tmp("missing_image");
+  writeTumDataset(tmp.path());
+  fs::remove(tmp.path() / "images" / "002.png");
+  const std::string error = openError(tmp.path());
+  EXPECT_NE(error.find("times.txt:5: image '002' not found"), std::string::npos) << error;
+}
+
+TEST(DatasetTest, RejectsTimestampsNotIncreasing) {
+  TempDir tmp("order");
+  writeTumDataset(tmp.path());
+  writeText(tmp.path() / "times.txt", "000 1.0 10\n001 1.05 10\n002 1.05 10\n");
+  const std::string error = openError(tmp.path());
+  EXPECT_NE(error.find("times.txt:3: timestamp"), std::string::npos) << error;
+}
+
+TEST(DatasetTest, RejectsMalformedLine) {
+  TempDir tmp("malformed");
+  writeTumDataset(tmp.path());
+  writeText(tmp.path() / "times.txt", "000 1.0 10\n001 one 10\n");
+  const std::string error = openError(tmp.path());
+  EXPECT_NE(error.find("times.txt:2: timestamp 'one' is not a number"), std::string::npos)
+      << error;
+}
+
+TEST(DatasetTest, RejectsWrongSizeImage) {
+  TempDir tmp("wrong_size");
+  writeTumDataset(tmp.path());
+  writeGreyImage(tmp.path() / "images" / "002.png", 15, 12, 0);
+  const std::string error = openError(tmp.path());
+  EXPECT_NE(error.find("times.txt:5: image"), std::string::npos) << error;
+  EXPECT_NE(error.find("is 15x12, but the first image is 16x12"), std::string::npos) << error;
+}
+
+TEST(DatasetTest, RejectsUnreadableImage) {
+  TempDir tmp("unreadable");
+  writeTumDataset(tmp.path());
+  writeText(tmp.path() / "images" / "001.jpg", "not an image");
+  const std::string error = openError(tmp.path());
+  EXPECT_NE(error.find("times.txt:3:"), std::string::npos) << error;
+  EXPECT_NE(error.find("unreadable"), std::string::npos) << error;
+}
+
+TEST(DatasetTest, RejectsTruncatedImagesFromTheirHeadersAlone) {
+  TempDir tmp("truncated");
+  writeTumDataset(tmp.path());
+  for (const char* name : {"002.png", "001.jpg"}) {
+    const fs::path image = tmp.path() / "images" / name;
+    const auto full_size = fs::file_size(image);
+    fs::resize_file(image, full_size - 8);
+    const std::string error = openError(tmp.path());
+    EXPECT_NE(error.find("truncated"), std::string::npos) << name << ": " << error;
+    writeTumDataset(tmp.path());
+  }
+}
+
+TEST(DatasetTest, DecodingFindsCorruptPixelData) {
+  TempDir tmp("corrupt");
+  writeTumDataset(tmp.path());
+  // Overwrite the middle of the PNG (its compressed pixel data) but keep header and IEND.
+  const fs::path image = tmp.path() / "images" / "002.png";
+  {
+    std::fstream file(image, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(40);
+    file.write("garbagegarbage", 14);
+  }
+  const DatasetIndex index = openDataset(tmp.path().string());
+  EXPECT_NO_THROW(verifyDatasetImages(index));  // the header is intact
+  EXPECT_THROW(verifyDatasetImages(index, /*decode=*/true), Error);
+}
+
+TEST(DatasetTest, RejectsDirectoryThatIsNoDataset) {
+  TempDir tmp("nothing");
+  EXPECT_NE(openError(tmp.path()).find("not a dataset"), std::string::npos);
+  EXPECT_NE(openError(tmp.path() / "absent").find("not found"), std::string::npos);
+}
+
+TEST(DatasetTest, ReadsAslLayoutWithNanosecondTimestamps) {
+  TempDir tmp("asl");
+  const fs::path cam = tmp.path() / "mav0" / "cam0";
+  fs::create_directories(cam / "data");
+  writeGreyImage(cam / "data" / "1403715273262142976.png", 8, 6, 1);
+  writeGreyImage(cam / "data" / "1403715273312143104.png", 8, 6, 2);
+  writeText(cam / "data.csv",
+            "#timestamp [ns],filename\n"
+            "1403715273262142976,1403715273262142976.png\n"
+            "1403715273312143104,1403715273312143104.png\n");
+  const DatasetIndex index = openDataset(tmp.path().string());
+  EXPECT_EQ(index.layout, DatasetLayout::kAsl);
+  ASSERT_EQ(index.frames.size(), 2u);
+  // Seconds and nanoseconds are converted separately, so the difference is exact to the
+  // double rounding of ~1.4e9 s (ulp 2.4e-7 s).
+  EXPECT_NEAR(index.frames[1].timestamp_s - index.frames[0].timestamp_s, 0.050000128, 5e-7);
+  EXPECT_EQ(index.frames[0].exposure_ms, 0.0);
+  EXPECT_EQ(index.frames[0].index_line, 2);
+
+  writeText(cam / "data.csv", "#timestamp [ns],filename\n1403715273262142976,absent.png\n");
+  EXPECT_NE(openError(tmp.path()).find("data.csv:2: image"), std::string::npos);
+}
+
+TEST(DatasetTest, ReadsEurocStaticClip) {
+  const auto dir = test::sharedDataDir("euroc_v101_static_clip");
+  if (!dir) GTEST_SKIP() << test::missingDataMessage("euroc_v101_static_clip");
+  const DatasetIndex index = openDataset(dir->string());
+  EXPECT_EQ(index.layout, DatasetLayout::kAsl);
+  EXPECT_EQ(index.frames.size(), 95u);
+  EXPECT_EQ(index.width, 752);
+  EXPECT_EQ(index.height, 480);
+  ASSERT_FALSE(index.calibration_paths.empty());
+  EXPECT_EQ(fs::path(index.calibration_paths[0]).filename(), "sensor.yaml");
+  // 95 frames at 20 Hz.
+  EXPECT_NEAR(datasetFrameRate(index), 20.0, 0.1);
+  EXPECT_NO_THROW(verifyDatasetImages(index));
+  const ImageU8 first = readDatasetFrame(index, 0);
+  EXPECT_EQ(first.width(), 752);
+}
+
+}  // namespace
+}  // namespace omnidso

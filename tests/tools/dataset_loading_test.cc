@@ -1,0 +1,93 @@
+// Camera and camera-frame ground truth of datasets (synth/dataset_loading.hpp).
+#include <omnidso/synth/dataset_loading.hpp>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <omnidso/core/error.hpp>
+
+#include "synth_test_util.hpp"
+
+namespace omnidso::synth {
+namespace {
+namespace fs = std::filesystem;
+
+// An ASL dataset of two 32×24 frames with a sensor.yaml whose T_BS is a 90° turn about z
+// plus an offset, and body ground truth of two poses.
+void writeAslDataset(const fs::path& root, int calibration_width) {
+  const fs::path cam = root / "mav0" / "cam0";
+  fs::create_directories(cam / "data");
+  for (const char* stamp : {"1000000000", "1050000000"}) {
+    cv::imwrite((cam / "data" / (std::string(stamp) + ".png")).string(),
+                cv::Mat(24, 32, CV_8UC1, cv::Scalar(9)));
+  }
+  std::ofstream(cam / "data.csv") << "#timestamp [ns],filename\n"
+                                     "1000000000,1000000000.png\n"
+                                     "1050000000,1050000000.png\n";
+  std::ofstream(cam / "sensor.yaml")
+      << "%YAML:1.0\nsensor_type: camera\n"
+         "T_BS:\n  cols: 4\n  rows: 4\n"
+         "  data: [0.0, -1.0, 0.0, 0.1,  1.0, 0.0, 0.0, 0.2,  0.0, 0.0, 1.0, 0.3,  0, 0, 0, 1]\n"
+         "rate_hz: 20\nresolution: ["
+      << calibration_width
+      << ", 24]\ncamera_model: pinhole\nintrinsics: [20.0, 20.0, 15.5, 11.5]\n"
+         "distortion_model: radial-tangential\ndistortion_coefficients: [0.0, 0.0, 0.0, 0.0]\n";
+  fs::create_directories(root / "mav0" / "state_groundtruth_estimate0");
+  std::ofstream(root / "mav0" / "state_groundtruth_estimate0" / "data.csv")
+      << "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], "
+         "q_RS_y [], q_RS_z []\n"
+         "1000000000,1.0,2.0,3.0,1.0,0.0,0.0,0.0\n"
+         "1050000000,1.5,2.0,3.0,0.70710678118654752,0.70710678118654752,0.0,0.0\n";
+}
+
+TEST(DatasetLoadingTest, AslBodyGroundTruthBecomesCameraPosesThroughTbs) {
+  test::TempDir tmp("asl_gt");
+  writeAslDataset(tmp.path(), 32);
+  const DatasetIndex index = openDataset(tmp.str());
+  ASSERT_EQ(index.groundtruth_kind, GroundTruthKind::kBodyAsl);
+  const Trajectory cameras = cameraGroundTruth(index);
+  ASSERT_EQ(cameras.size(), 2u);
+  Eigen::Matrix3d r_bs;
+  r_bs << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  const SE3d t_bs(r_bs, Eigen::Vector3d(0.1, 0.2, 0.3));
+  const SE3d body1(Eigen::Quaterniond(std::sqrt(0.5), std::sqrt(0.5), 0, 0),
+                   Eigen::Vector3d(1.5, 2.0, 3.0));
+  // T_world_cam = T_world_body · T_BS; the file holds 17-digit numbers, so 1e-12.
+  EXPECT_LT((cameras[1].pose.matrix() - (body1 * t_bs).matrix()).norm(), 1e-12);
+  EXPECT_LT((cameras[0].pose.translation() - Eigen::Vector3d(1.1, 2.2, 3.3)).norm(), 1e-12);
+  EXPECT_NEAR(cameras[1].timestamp - cameras[0].timestamp, 0.05, 1e-9);
+
+  const Camera camera = datasetCamera(index);
+  EXPECT_EQ(camera.modelName(), "pinhole-radtan");
+  EXPECT_EQ(camera.width(), 32);
+}
+
+TEST(DatasetLoadingTest, CalibrationForAnotherImageSizeIsRejected) {
+  test::TempDir tmp("asl_size");
+  writeAslDataset(tmp.path(), 64);
+  const DatasetIndex index = openDataset(tmp.str());
+  try {
+    datasetCamera(index);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("sensor.yaml: calibration is for 64x24 images"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(DatasetLoadingTest, DatasetWithoutGroundTruthSaysSo) {
+  test::TempDir tmp("asl_no_gt");
+  writeAslDataset(tmp.path(), 32);
+  fs::remove_all(tmp.path() / "mav0" / "state_groundtruth_estimate0");
+  const DatasetIndex index = openDataset(tmp.str());
+  EXPECT_EQ(index.groundtruth_kind, GroundTruthKind::kNone);
+  EXPECT_THROW(cameraGroundTruth(index), Error);
+}
+
+}  // namespace
+}  // namespace omnidso::synth

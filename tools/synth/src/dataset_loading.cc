@@ -1,0 +1,53 @@
+// Camera and camera-frame ground truth of a dataset (dataset_loading.hpp).
+#include <omnidso/synth/dataset_loading.hpp>
+
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include <omnidso/cameras/calibration_io.hpp>
+#include <omnidso/core/error.hpp>
+#include <omnidso/core/trajectory_io.hpp>
+
+namespace omnidso::synth {
+
+Camera datasetCamera(const DatasetIndex& index, const std::string& override_path) {
+  std::string path = override_path;
+  if (path.empty()) {
+    if (index.calibration_paths.empty()) {
+      throw fileError(index.root,
+                      "no calibration file (camchain.yaml, camera.txt or mav0/cam0/sensor.yaml); "
+                      "pass one with --calib");
+    }
+    path = index.calibration_paths.front();
+  }
+  const Camera camera = loadCalibration(path);
+  if (camera.width() != index.width || camera.height() != index.height) {
+    throw fileError(path, fmt::format("calibration is for {}x{} images, the dataset's are {}x{}",
+                                      camera.width(), camera.height(), index.width,
+                                      index.height));
+  }
+  return camera;
+}
+
+Trajectory cameraGroundTruth(const DatasetIndex& index) {
+  if (!index.groundtruth_path) throw fileError(index.root, "dataset has no ground truth");
+  if (index.groundtruth_kind == GroundTruthKind::kCameraTum) {
+    return readTrajectoryTum(*index.groundtruth_path);
+  }
+  Trajectory body = readTrajectory(*index.groundtruth_path, TrajectoryFormat::kEuroc);
+  std::string sensor_path;
+  for (const std::string& path : index.calibration_paths) {
+    if (std::filesystem::path(path).filename() == "sensor.yaml") sensor_path = path;
+  }
+  if (sensor_path.empty()) {
+    throw fileError(*index.groundtruth_path,
+                    "body-frame ground truth needs T_BS from mav0/cam0/sensor.yaml, which is "
+                    "missing");
+  }
+  const SE3d body_to_camera = loadEurocSensor(sensor_path).T_body_sensor;
+  for (StampedPose& pose : body) pose.pose = pose.pose * body_to_camera;
+  return body;
+}
+
+}  // namespace omnidso::synth
