@@ -238,6 +238,8 @@ WindowSolveSummary SlidingWindow::optimizeCoarseToFine(int num_levels) {
     if (level == coarsest) total.initial_cost = s.initial_cost;
     total.iterations += s.iterations;
     total.solve_ms += s.solve_ms;
+    total.evaluation_ms += s.evaluation_ms;
+    total.linear_solver_ms += s.linear_solver_ms;
     total.final_cost = s.final_cost;
     total.usable = s.usable;
     total.message = s.message;
@@ -288,6 +290,9 @@ WindowSolveSummary SlidingWindow::solve() {
   out.final_cost = summary.final_cost;
   out.usable = summary.IsSolutionUsable();
   out.message = summary.message;
+  out.evaluation_ms = 1e3 * (summary.residual_evaluation_time_in_seconds +
+                             summary.jacobian_evaluation_time_in_seconds);
+  out.linear_solver_ms = 1e3 * summary.linear_solver_time_in_seconds;
   out.linear_solver = ceres::LinearSolverTypeToString(summary.linear_solver_type_used);
   return out;
 }

@@ -97,6 +97,8 @@ struct WindowSolveSummary {
   double initial_cost = 0.0;
   double final_cost = 0.0;
   double solve_ms = 0.0;
+  double evaluation_ms = 0.0;     // residuals and Jacobians (Ceres's own accounting)
+  double linear_solver_ms = 0.0;  // Schur complement and the reduced camera system
   int num_residuals = 0;
   int num_points = 0;
   int num_keyframes = 0;
