@@ -12,6 +12,8 @@
 // fisheye with ξ near 1 sees well beyond a 180° field of view, including points behind
 // the camera (z < 0), which is why points carry inverse *distance* 1/‖x‖.
 // A pixel is unprojectable where 1 + (1−ξ²) r² ≥ 0 (always for ξ ≤ 1).
+// projectNormalised / unprojectNormalised expose the step to and from the normalised plane
+// m = (x, y)/D for DistortedCamera (Mei's model = UCM + radial-tangential distortion).
 // With ξ = 0 the model is the pinhole model.
 //
 // The α-form used by basalt and Kalibr's "eucm" family, α = ξ/(1+ξ), f_α = f_ξ/(1+ξ),
@@ -28,6 +30,8 @@ class UnifiedCamera {
  public:
   using Scalar = Scalar_;
   static constexpr int kNumParams = 5;
+  // Parameters after [fx, fy, cx, cy] that act on the normalised plane: ξ.
+  static constexpr int kNumExtraParams = kNumParams - 4;
   static constexpr const char* kName = "ucm";
   static constexpr std::array<const char*, kNumParams> kParamNames = {"fx", "fy", "cx", "cy",
                                                                      "xi"};
@@ -38,6 +42,8 @@ class UnifiedCamera {
   using Mat2N = Eigen::Matrix<Scalar, 2, kNumParams>;
   using Mat32 = Eigen::Matrix<Scalar, 3, 2>;
   using Mat3N = Eigen::Matrix<Scalar, 3, kNumParams>;
+  using Mat2E = Eigen::Matrix<Scalar, 2, kNumExtraParams>;
+  using Mat3E = Eigen::Matrix<Scalar, 3, kNumExtraParams>;
 
   UnifiedCamera() { params_ << Scalar(1), Scalar(1), Scalar(0), Scalar(0), Scalar(0); }
   explicit UnifiedCamera(const VecN& params) : params_(params) {}
@@ -52,47 +58,80 @@ class UnifiedCamera {
     return xi <= Scalar(1) ? xi : Scalar(1) / xi;
   }
 
-  // Projects a 3D point in camera coordinates. Returns false outside the model's domain
-  // (the outputs are still written where they are finite). Jacobians are optional.
-  bool project(const Vec3& p, Vec2& uv, Mat23* d_uv_d_p = nullptr,
-               Mat2N* d_uv_d_params = nullptr) const {
+  // m = (x, y)/D with D = z + ξ‖x‖ (eq. 2 without [fx, fy, cx, cy]). Returns false outside
+  // the model's domain. d_m_d_extra is ∂m/∂ξ.
+  bool projectNormalised(const Vec3& p, Vec2& m, Mat23* d_m_d_p = nullptr,
+                         Mat2E* d_m_d_extra = nullptr) const {
     using std::sqrt;
-    const Scalar& fx = params_[0];
-    const Scalar& fy = params_[1];
-    const Scalar& cx = params_[2];
-    const Scalar& cy = params_[3];
     const Scalar& xi = params_[4];
     const Scalar rho = sqrt(p.squaredNorm());
     const Scalar D = p.z() + xi * rho;
     const bool valid = rho > Scalar(0) && p.z() > -domainW() * rho && D > Scalar(0);
     if (!valid) return false;
-
     const Scalar inv_D = Scalar(1) / D;
-    const Scalar mx = p.x() * inv_D;
-    const Scalar my = p.y() * inv_D;
-    uv << fx * mx + cx, fy * my + cy;
+    m << p.x() * inv_D, p.y() * inv_D;
+    if (d_m_d_p) {
+      // ∂D/∂p = ξ p/ρ + e_z;  ∂m/∂p = (I₂|0)/D − m ∂D/∂pᵀ / D
+      const Scalar xi_over_rho = xi / rho;
+      const Vec3 dD_dp(xi_over_rho * p.x(), xi_over_rho * p.y(),
+                       Scalar(1) + xi_over_rho * p.z());
+      *d_m_d_p << inv_D, Scalar(0), Scalar(0), Scalar(0), inv_D, Scalar(0);
+      d_m_d_p->noalias() -= (m * inv_D) * dD_dp.transpose();
+    }
+    // ∂m/∂ξ = −m ρ / D
+    if (d_m_d_extra) *d_m_d_extra = -m * (rho * inv_D);
+    return true;
+  }
 
+  // Lifts a normalised point to the unit sphere (eq. 4 with d = 1). Returns false where m
+  // lies outside the model's image of the sphere. d_bearing_d_extra is ∂bearing/∂ξ.
+  bool unprojectNormalised(const Vec2& m, Vec3& bearing, Mat32* d_bearing_d_m = nullptr,
+                           Mat3E* d_bearing_d_extra = nullptr) const {
+    using std::sqrt;
+    const Scalar& xi = params_[4];
+    const Scalar r2 = m.squaredNorm();
+    const Scalar disc = Scalar(1) + (Scalar(1) - xi * xi) * r2;
+    if (!(disc >= Scalar(0))) return false;
+    const Scalar s = sqrt(disc);
+    const Scalar inv_r2p1 = Scalar(1) / (r2 + Scalar(1));
+    const Scalar k = (xi + s) * inv_r2p1;
+    bearing << k * m.x(), k * m.y(), k - xi;
+    // Points past the fold (ξ > 1) are not images of the projectable half: reject them.
+    if (bearing.z() <= -domainW()) return false;
+    if (d_bearing_d_m) {
+      // dk/dr² = ((1−ξ²)/(2s) − k) / (r² + 1)
+      const Scalar dk_dr2 = ((Scalar(1) - xi * xi) / (Scalar(2) * s) - k) * inv_r2p1;
+      const Scalar dk_dmx = dk_dr2 * Scalar(2) * m.x();
+      const Scalar dk_dmy = dk_dr2 * Scalar(2) * m.y();
+      *d_bearing_d_m << k + m.x() * dk_dmx, m.x() * dk_dmy, m.y() * dk_dmx, k + m.y() * dk_dmy,
+          dk_dmx, dk_dmy;
+    }
+    if (d_bearing_d_extra) {
+      // ∂k/∂ξ = (1 − ξ r²/s)/(r² + 1); bearing_z also carries −ξ.
+      const Scalar dk_dxi = (Scalar(1) - xi * r2 / s) * inv_r2p1;
+      *d_bearing_d_extra << dk_dxi * m.x(), dk_dxi * m.y(), dk_dxi - Scalar(1);
+    }
+    return true;
+  }
+
+  // Projects a 3D point in camera coordinates. Returns false outside the model's domain.
+  // Jacobians are optional.
+  bool project(const Vec3& p, Vec2& uv, Mat23* d_uv_d_p = nullptr,
+               Mat2N* d_uv_d_params = nullptr) const {
+    const Scalar& fx = params_[0];
+    const Scalar& fy = params_[1];
+    Vec2 m;
+    Mat2E d_m_d_xi;
+    if (!projectNormalised(p, m, d_uv_d_p, d_uv_d_params ? &d_m_d_xi : nullptr)) return false;
+    uv << fx * m.x() + params_[2], fy * m.y() + params_[3];
     if (d_uv_d_p) {
-      // ∂D/∂p = ξ p/ρ + e_z;  ∂m/∂p = (I₂|0)/D − m ∂D/∂p / D
-      const Vec3 dD_dp(xi * p.x() / rho, xi * p.y() / rho, Scalar(1) + xi * p.z() / rho);
-      Mat23& J = *d_uv_d_p;
-      J(0, 0) = fx * (inv_D - mx * dD_dp.x() * inv_D);
-      J(0, 1) = -fx * mx * dD_dp.y() * inv_D;
-      J(0, 2) = -fx * mx * dD_dp.z() * inv_D;
-      J(1, 0) = -fy * my * dD_dp.x() * inv_D;
-      J(1, 1) = fy * (inv_D - my * dD_dp.y() * inv_D);
-      J(1, 2) = -fy * my * dD_dp.z() * inv_D;
+      d_uv_d_p->row(0) *= fx;
+      d_uv_d_p->row(1) *= fy;
     }
     if (d_uv_d_params) {
       Mat2N& J = *d_uv_d_params;
-      J.setZero();
-      J(0, 0) = mx;
-      J(1, 1) = my;
-      J(0, 2) = Scalar(1);
-      J(1, 3) = Scalar(1);
-      // ∂m/∂ξ = −m ρ / D
-      J(0, 4) = -fx * mx * rho * inv_D;
-      J(1, 4) = -fy * my * rho * inv_D;
+      J << m.x(), Scalar(0), Scalar(1), Scalar(0), fx * d_m_d_xi(0, 0),  //
+          Scalar(0), m.y(), Scalar(0), Scalar(1), fy * d_m_d_xi(1, 0);
     }
     return true;
   }
@@ -101,47 +140,28 @@ class UnifiedCamera {
   // pixel lies outside the model's image of the sphere.
   bool unproject(const Vec2& uv, Vec3& bearing, Mat32* d_bearing_d_uv = nullptr,
                  Mat3N* d_bearing_d_params = nullptr) const {
-    using std::sqrt;
     const Scalar& fx = params_[0];
     const Scalar& fy = params_[1];
-    const Scalar& cx = params_[2];
-    const Scalar& cy = params_[3];
-    const Scalar& xi = params_[4];
-    const Scalar mx = (uv.x() - cx) / fx;
-    const Scalar my = (uv.y() - cy) / fy;
-    const Scalar r2 = mx * mx + my * my;
-    const Scalar disc = Scalar(1) + (Scalar(1) - xi * xi) * r2;
-    if (disc < Scalar(0)) return false;
-    const Scalar s = sqrt(disc);
-    const Scalar inv_r2p1 = Scalar(1) / (r2 + Scalar(1));
-    const Scalar k = (xi + s) * inv_r2p1;
-    bearing << k * mx, k * my, k - xi;
-    // Points past the fold (ξ > 1) are not images of the projectable half: reject them.
-    if (bearing.z() <= -domainW()) return false;
-
-    if (d_bearing_d_uv || d_bearing_d_params) {
-      // dk/dr² = ((1−ξ²)/(2s) − k) / (r² + 1)
-      const Scalar dk_dr2 = ((Scalar(1) - xi * xi) / (Scalar(2) * s) - k) * inv_r2p1;
-      // ∂bearing/∂(mx, my)
-      Eigen::Matrix<Scalar, 3, 2> d_b_d_m;
-      const Scalar dk_dmx = dk_dr2 * Scalar(2) * mx;
-      const Scalar dk_dmy = dk_dr2 * Scalar(2) * my;
-      d_b_d_m << k + mx * dk_dmx, mx * dk_dmy, my * dk_dmx, k + my * dk_dmy, dk_dmx, dk_dmy;
-      if (d_bearing_d_uv) {
-        d_bearing_d_uv->col(0) = d_b_d_m.col(0) / fx;
-        d_bearing_d_uv->col(1) = d_b_d_m.col(1) / fy;
-      }
-      if (d_bearing_d_params) {
-        Mat3N& J = *d_bearing_d_params;
-        // mx = (u − cx)/fx: ∂mx/∂fx = −mx/fx, ∂mx/∂cx = −1/fx (likewise y).
-        J.col(0) = -d_b_d_m.col(0) * mx / fx;
-        J.col(1) = -d_b_d_m.col(1) * my / fy;
-        J.col(2) = -d_b_d_m.col(0) / fx;
-        J.col(3) = -d_b_d_m.col(1) / fy;
-        // ∂k/∂ξ = (1 − ξ r²/s)/(r² + 1); bearing_z also carries −ξ.
-        const Scalar dk_dxi = (Scalar(1) - xi * r2 / s) * inv_r2p1;
-        J.col(4) << dk_dxi * mx, dk_dxi * my, dk_dxi - Scalar(1);
-      }
+    const Vec2 m((uv.x() - params_[2]) / fx, (uv.y() - params_[3]) / fy);
+    const bool want_jacobian = d_bearing_d_uv || d_bearing_d_params;
+    Mat32 d_b_d_m;
+    Mat3E d_b_d_xi;
+    if (!unprojectNormalised(m, bearing, want_jacobian ? &d_b_d_m : nullptr,
+                             d_bearing_d_params ? &d_b_d_xi : nullptr)) {
+      return false;
+    }
+    if (d_bearing_d_uv) {
+      d_bearing_d_uv->col(0) = d_b_d_m.col(0) / fx;
+      d_bearing_d_uv->col(1) = d_b_d_m.col(1) / fy;
+    }
+    if (d_bearing_d_params) {
+      Mat3N& J = *d_bearing_d_params;
+      // m = (uv − c)/f: ∂m/∂f = −m/f, ∂m/∂c = −1/f (likewise y).
+      J.col(0) = -d_b_d_m.col(0) * m.x() / fx;
+      J.col(1) = -d_b_d_m.col(1) * m.y() / fy;
+      J.col(2) = -d_b_d_m.col(0) / fx;
+      J.col(3) = -d_b_d_m.col(1) / fy;
+      J.col(4) = d_b_d_xi;
     }
     return true;
   }
