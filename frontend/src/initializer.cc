@@ -198,8 +198,9 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
   result.parallax_px = parallax;
   result.rmse = rmse;
   std::ostringstream status;
-  status << "frame " << impl_->frames_tried << ": parallax " << parallax << " px (need "
-         << min_parallax << "), error " << rmse << ", " << num_valid << " points";
+  status << "after " << impl_->frames_tried << " frames: parallax " << parallax << " px of the "
+         << min_parallax << " px needed, photometric error " << rmse << " (at most "
+         << impl_->options.max_rmse << "), " << num_valid << " points";
   impl_->status = status.str();
   if (!(parallax >= min_parallax) || !(rmse <= impl_->options.max_rmse) ||
       num_valid < impl_->options.min_points)

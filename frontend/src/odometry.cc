@@ -35,9 +35,10 @@ struct Odometry::Impl {
   int frames_tracked = 0;
   Eigen::Vector2d last_affine = Eigen::Vector2d::Zero();
   int frames_since_keyframe = 0;
+  Eigen::VectorXd last_intrinsics;  // of the last finished segment
 
   Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
-      : camera(c), mask(validityMask(c)), options(std::move(o)) {
+      : camera(c), mask(validityMask(c)), options(std::move(o)), last_intrinsics(c.params()) {
     if (!image_mask.empty()) {
       if (image_mask.width() != c.width() || image_mask.height() != c.height())
         throw Error("Odometry: the image mask is " + std::to_string(image_mask.width()) + "x" +
@@ -248,6 +249,7 @@ struct Odometry::Impl {
       if (point->inverse_distance > 0.0)
         points.push_back({window->pointInWorld(*point),
                           static_cast<float>(point->patch.intensity[4]), segment});
+    last_intrinsics = window->intrinsics();
     window.reset();
     tracker.reset();
     immature.clear();
@@ -385,6 +387,10 @@ std::vector<OdometryPoint> Odometry::points() const {
 }
 
 bool Odometry::initialized() const { return impl_->initialized; }
+
+Eigen::VectorXd Odometry::intrinsics() const {
+  return impl_->window ? impl_->window->intrinsics() : impl_->last_intrinsics;
+}
 int Odometry::numSegments() const { return impl_->segment + 1; }
 const std::vector<std::string>& Odometry::log() const { return impl_->log; }
 

@@ -137,6 +137,8 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
                  {"mapping_ms_per_keyframe", toJson(stats(mapping_ms))},
                  {"wall_s", d.wall_s}};
   s["events"] = odometry.log();
+  const Eigen::VectorXd intrinsics = odometry.intrinsics();
+  s["intrinsics_final"] = std::vector<double>(intrinsics.data(), intrinsics.data() + intrinsics.size());
   s["initialized"] = !all_keyframes.empty();
   if (!odometry.initialized()) s["initialization_status"] = odometry.initializationStatus();
 

@@ -90,6 +90,8 @@ class Odometry {
   std::vector<KeyframeRecord> keyframes() const;
   std::vector<OdometryPoint> points() const;  // marginalised and active points
   bool initialized() const;
+  // The intrinsics as currently estimated (the calibration's while nothing is optimised).
+  Eigen::VectorXd intrinsics() const;
   int numSegments() const;
   // Events a user should see: initialisation, tracking loss, re-initialisation.
   const std::vector<std::string>& log() const;
