@@ -9,14 +9,12 @@
 
 #include "test_data.hpp"
 
+#include "vector_literal.hpp"
+
 namespace omnidso {
 namespace {
 
-Eigen::VectorXd vec(std::initializer_list<double> values) {
-  Eigen::VectorXd v(static_cast<int>(values.size()));
-  std::copy(values.begin(), values.end(), v.data());
-  return v;
-}
+using test::vec;
 
 // Parameters with many significant digits, so that a lossy write would show.
 std::vector<Camera> everyModel() {

@@ -8,14 +8,12 @@
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/core/error.hpp>
 
+#include "vector_literal.hpp"
+
 namespace omnidso {
 namespace {
 
-Eigen::VectorXd vec(std::initializer_list<double> values) {
-  Eigen::VectorXd v(static_cast<int>(values.size()));
-  std::copy(values.begin(), values.end(), v.data());
-  return v;
-}
+using test::vec;
 
 struct NamedParams {
   std::string name;

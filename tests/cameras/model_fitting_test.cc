@@ -4,14 +4,12 @@
 #include <omnidso/cameras/model_fitting.hpp>
 #include <omnidso/core/error.hpp>
 
+#include "vector_literal.hpp"
+
 namespace omnidso {
 namespace {
 
-Eigen::VectorXd vec(std::initializer_list<double> values) {
-  Eigen::VectorXd v(static_cast<int>(values.size()));
-  std::copy(values.begin(), values.end(), v.data());
-  return v;
-}
+using test::vec;
 
 // Small grids keep the suite fast; the properties do not depend on the density.
 FitOptions quickOptions() {

@@ -6,14 +6,12 @@
 #include <omnidso/cameras/rectification.hpp>
 #include <omnidso/core/error.hpp>
 
+#include "vector_literal.hpp"
+
 namespace omnidso {
 namespace {
 
-Eigen::VectorXd vec(std::initializer_list<double> values) {
-  Eigen::VectorXd v(static_cast<int>(values.size()));
-  std::copy(values.begin(), values.end(), v.data());
-  return v;
-}
+using test::vec;
 
 // A smooth scene painted on the sphere of directions, so that the same ray has the same
 // intensity in every camera.
