@@ -31,18 +31,24 @@ function(omnidso_add_library name)
   install(DIRECTORY include/ DESTINATION include)
 endfunction()
 
-# omnidso_add_test_suite(NAME DIR DEPS...): one gtest executable from tests/DIR/*_test.cc.
+# omnidso_add_test_suite(NAME DIR DEPS... [LABELS label...]): one gtest executable from
+# tests/DIR/*_test.cc; LABELS go to every test (`slow` keeps them out of `make test`).
 # Tests read real data from OMNIDSO_DATA_DIR (environment) and skip when it is absent.
 function(omnidso_add_test_suite name dir)
+  cmake_parse_arguments(ARG "" "" "LABELS" ${ARGN})
   file(GLOB sources CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/${dir}/*.cc")
   if(NOT sources)
     return()
   endif()
   add_executable(${name} ${sources})
-  target_link_libraries(${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main)
+  target_link_libraries(${name} PRIVATE ${ARG_UNPARSED_ARGUMENTS} GTest::gtest GTest::gtest_main)
   target_include_directories(${name} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}")
   omnidso_warnings(${name} PRIVATE)
+  set(labels ${ARG_LABELS})
+  if(NOT labels)
+    set(labels fast)
+  endif()
   gtest_discover_tests(${name}
-    PROPERTIES ENVIRONMENT "OMNIDSO_DATA_DIR=${OMNIDSO_DATA_DIR}"
+    PROPERTIES ENVIRONMENT "OMNIDSO_DATA_DIR=${OMNIDSO_DATA_DIR}" LABELS "${labels}"
     DISCOVERY_TIMEOUT 60)
 endfunction()

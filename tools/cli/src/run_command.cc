@@ -1,7 +1,7 @@
 // `omnidso run`: the odometry over a dataset (TUM or ASL layout). Frames are read, corrected
 // photometrically (pcalib.txt, vignette.png), rectified when the camera has distortion or a
 // pinhole crop is asked for (the paper's "DSO with the pinhole model" baseline), and fed to
-// omnidso::Odometry; the outputs are written by run_outputs.cc.
+// omnidso::Odometry (dataset_runner.cc); the outputs are written by run_outputs.cc.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <unistd.h>
@@ -9,17 +9,12 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <omnidso/cameras/rectification.hpp>
 #include <omnidso/cli/commands.hpp>
+#include <omnidso/cli/dataset_runner.hpp>
 #include <omnidso/cli/run_outputs.hpp>
 #include <omnidso/core/dataset.hpp>
 #include <omnidso/core/error.hpp>
-#include <omnidso/core/image_io.hpp>
-#include <omnidso/core/photometric_calibration.hpp>
-#include <omnidso/core/timing.hpp>
 #include <omnidso/frontend/odometry.hpp>
-#include <omnidso/synth/dataset_loading.hpp>
-#include <optional>
 
 namespace omnidso::cli {
 namespace {
@@ -40,22 +35,6 @@ struct RunArguments {
   bool quiet = false;
   bool json = false;
 };
-
-// "native" or "pinhole-crop:FOV_DEG".
-std::optional<double> parsePinholeCrop(const std::string& text) {
-  if (text == "native") return std::nullopt;
-  const std::string prefix = "pinhole-crop:";
-  if (text.rfind(prefix, 0) == 0) {
-    try {
-      size_t used = 0;
-      const double fov = std::stod(text.substr(prefix.size()), &used);
-      if (used == text.size() - prefix.size() && fov > 1.0 && fov < 179.0) return fov;
-    } catch (const std::exception&) {
-    }
-  }
-  throw Error("--camera-model: expected 'native' or 'pinhole-crop:FOV_DEG' with 1 < FOV < 179, got '" +
-              text + "'");
-}
 
 void refuseToOverwrite(const std::string& out, bool force) {
   namespace fs = std::filesystem;
@@ -78,59 +57,34 @@ void printProgress(size_t done, size_t total, const Odometry& odometry) {
 
 void runOdometry(const RunArguments& args) {
   const DatasetIndex index = openDataset(args.dataset);
-  const Camera source = synth::datasetCamera(index, args.calib);
-  const std::optional<double> crop_fov = parsePinholeCrop(args.camera_model);
+  parsePinholeCrop(args.camera_model);  // reject a bad option before touching --out
   refuseToOverwrite(args.out, args.force);
-
-  // The odometry's camera, and the map from the raw images to it when they differ.
-  Camera camera = source.undistortedModel();
-  if (crop_fov) camera = pinholeForFov(*crop_fov, source.width(), source.height());
-  std::optional<RectificationMap> rectification;
-  Mask image_mask;
-  if (crop_fov || source.hasDistortion()) {
-    rectification = makeRectificationMap(source, camera);
-    image_mask = validMask(*rectification);
-  }
-  const PhotometricCalibration photometric = PhotometricCalibration::fromFiles(
-      index.pcalib_path.value_or(""), index.vignette_path.value_or(""));
-  if (photometric.hasVignette()) photometric.checkImageSize(source.width(), source.height());
-
-  OdometryOptions options;
-  options.num_points = args.points;
-  options.num_candidates = args.points;
-  options.seed = args.seed;
-  options.window.max_keyframes = args.keyframes;
-  options.window.optimize_intrinsics = !args.no_intrinsics_opt;
-  options.window.num_threads = args.threads;
-  options.window.differentiation =
+  DatasetRunOptions options;
+  options.camera_model = args.camera_model;
+  options.calib = args.calib;
+  options.max_frames = static_cast<size_t>(std::max(0, args.max_frames));
+  OdometryOptions& o = options.odometry;
+  o.num_points = args.points;
+  o.num_candidates = args.points;
+  o.seed = args.seed;
+  o.window.max_keyframes = args.keyframes;
+  o.window.optimize_intrinsics = !args.no_intrinsics_opt;
+  o.window.num_threads = args.threads;
+  o.window.differentiation =
       args.residuals == "autodiff" ? DifferentiationMode::kAutodiff : DifferentiationMode::kAnalytic;
-  options.tracker.num_threads = args.threads;
-  Odometry odometry(camera, options, image_mask);
-
-  const size_t total = args.max_frames > 0
-                           ? std::min(index.frames.size(), static_cast<size_t>(args.max_frames))
-                           : index.frames.size();
-  const bool progress = !args.quiet && ::isatty(STDERR_FILENO);
-  Stopwatch wall;
-  for (size_t i = 0; i < total; ++i) {
-    const DatasetFrame& frame = index.frames[i];
-    const RawImage raw = readRawImage(frame.image_path);
-    if (raw.pixels.width() != source.width() || raw.pixels.height() != source.height())
-      throw Error(frame.image_path + ": image is " + std::to_string(raw.pixels.width()) + "x" +
-                  std::to_string(raw.pixels.height()) + ", expected " +
-                  std::to_string(source.width()) + "x" + std::to_string(source.height()) +
-                  " (" + frame.index_file + ":" + std::to_string(frame.index_line) + ")");
-    ImageF image = photometric.correct(raw);
-    if (rectification) image = remap(image, *rectification);
-    const double exposure = frame.exposure_ms > 0 ? frame.exposure_ms : 1.0;
-    odometry.addFrame(image, frame.timestamp_s, exposure);
-    if (progress && (i % 10 == 0 || i + 1 == total)) printProgress(i + 1, total, odometry);
-  }
+  o.tracker.num_threads = args.threads;
+  if (!args.quiet && ::isatty(STDERR_FILENO))
+    options.progress = [](size_t done, size_t total, const Odometry& odometry) {
+      if (done % 10 == 0 || done == total) printProgress(done, total, odometry);
+    };
+  const DatasetRun run = runOdometryOnDataset(index, options);
+  const Odometry& odometry = *run.odometry;
+  const size_t total = run.frames_processed;
   RunDescription description;
   description.dataset = args.dataset;
   description.camera_model_option = args.camera_model;
-  description.source_camera = source.modelName();
-  description.odometry_camera = camera.modelName();
+  description.source_camera = run.source.modelName();
+  description.odometry_camera = run.camera.modelName();
   description.keyframes = args.keyframes;
   description.points = args.points;
   description.optimize_intrinsics = !args.no_intrinsics_opt;
@@ -138,7 +92,7 @@ void runOdometry(const RunArguments& args) {
   description.threads = args.threads;
   description.residuals = args.residuals;
   description.frames_processed = total;
-  description.wall_s = wall.elapsedMs() / 1000.0;
+  description.wall_s = run.wall_s;
   const nlohmann::json summary = writeRunOutputs(args.out, index, odometry, description);
   if (args.json) {
     std::cout << summary.dump(2) << "\n";

@@ -1,0 +1,38 @@
+#pragma once
+// The odometry over a dataset, as `omnidso run` does it and as the end-to-end tests do it:
+// every frame is read, corrected photometrically (pcalib.txt, vignette.png), rectified when
+// the calibration has distortion or a pinhole crop is asked for (`pinhole-crop:FOV_DEG`, the
+// paper's "DSO with the pinhole model" baseline), and fed to omnidso::Odometry.
+
+#include <functional>
+#include <memory>
+#include <omnidso/cameras/camera.hpp>
+#include <omnidso/core/dataset.hpp>
+#include <omnidso/frontend/odometry.hpp>
+#include <optional>
+#include <string>
+
+namespace omnidso::cli {
+
+struct DatasetRunOptions {
+  std::string camera_model = "native";  // native | pinhole-crop:FOV_DEG
+  std::string calib;                    // overrides the dataset's calibration file
+  size_t max_frames = 0;                // 0: all
+  OdometryOptions odometry;
+  std::function<void(size_t done, size_t total, const Odometry&)> progress;
+};
+
+struct DatasetRun {
+  Camera source;  // the dataset's calibration
+  Camera camera;  // what the odometry runs on
+  std::unique_ptr<Odometry> odometry;
+  size_t frames_processed = 0;
+  double wall_s = 0.0;
+};
+
+// "native" → nullopt, "pinhole-crop:FOV" → FOV; throws omnidso::Error otherwise.
+std::optional<double> parsePinholeCrop(const std::string& camera_model);
+
+DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptions& options);
+
+}  // namespace omnidso::cli
