@@ -334,7 +334,7 @@ void SlidingWindow::recordMarginalized(const WindowPoint& point) {
   if (!factory_->unproject(intrinsics_, point.pixel, bearing)) return;
   MarginalizedPoint m;
   m.position_world = keyframe(point.host_id).T_world_cam() * (bearing / point.inverse_distance);
-  m.intensity = static_cast<float>(point.patch.intensity[4]);  // offset (0, 0) of DSO's pattern
+  m.intensity = point.hostIntensity();
   marginalized_points_.push_back(m);
 }
 

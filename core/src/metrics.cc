@@ -119,6 +119,17 @@ double groundTruthLength(const Trajectory& gt, const Association& association) {
   return length;
 }
 
+double pathLength(const Trajectory& trajectory, double t0, double t1) {
+  double length = 0.0;
+  const StampedPose* last = nullptr;
+  for (const StampedPose& p : trajectory) {
+    if (p.timestamp < t0 || p.timestamp > t1) continue;
+    if (last) length += (p.pose.translation() - last->pose.translation()).norm();
+    last = &p;
+  }
+  return length;
+}
+
 RelativeErrors relativePoseErrors(const Trajectory& gt, const Trajectory& est,
                                   const Association& association, const Sim3d& alignment,
                                   const RpeOptions& options) {

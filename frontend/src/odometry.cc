@@ -88,6 +88,13 @@ struct Odometry::Impl {
     for (int id : window->keyframeIds()) keyframes[id].T_world_cam = window->keyframe(id).T_world_cam();
   }
 
+  // The window's active points (those not at infinity), in the world.
+  void appendActivePoints(std::vector<OdometryPoint>& out) const {
+    for (const auto& [pid, point] : window->points())
+      if (point->inverse_distance > 0.0)
+        out.push_back({window->pointInWorld(*point), point->hostIntensity(), segment});
+  }
+
   void collectMarginalizedPoints() {
     for (const MarginalizedPoint& m : window->takeMarginalizedPoints())
       points.push_back({m.position_world, m.intensity, segment});
@@ -245,10 +252,7 @@ struct Odometry::Impl {
     say("segment " + std::to_string(segment) + ": tracking lost at frame " +
         std::to_string(record.index) + "; re-initialising");
     refreshKeyframeRecords();
-    for (const auto& [pid, point] : window->points())
-      if (point->inverse_distance > 0.0)
-        points.push_back({window->pointInWorld(*point),
-                          static_cast<float>(point->patch.intensity[4]), segment});
+    appendActivePoints(points);
     last_intrinsics = window->intrinsics();
     window.reset();
     tracker.reset();
@@ -378,11 +382,7 @@ std::vector<KeyframeRecord> Odometry::keyframes() const {
 
 std::vector<OdometryPoint> Odometry::points() const {
   std::vector<OdometryPoint> out = impl_->points;
-  if (impl_->window)
-    for (const auto& [pid, point] : impl_->window->points())
-      if (point->inverse_distance > 0.0)
-        out.push_back({impl_->window->pointInWorld(*point),
-                       static_cast<float>(point->patch.intensity[4]), impl_->segment});
+  if (impl_->window) impl_->appendActivePoints(out);
   return out;
 }
 

@@ -115,6 +115,18 @@ TEST(Metrics, AssociationEqualsBruteForceGreedyMatching) {
   }
 }
 
+TEST(Metrics, PathLengthCountsOnlyPosesInsideTheTimeSpan) {
+  // Poses along x at 0, 1, 3, 6 m (t = 0..3 s): 1 + 2 + 3 = 6 m in all, 2 + 3 = 5 m from t = 1.
+  Trajectory t;
+  const double xs[] = {0, 1, 3, 6};
+  for (int i = 0; i < 4; ++i)
+    t.push_back({double(i), SE3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(xs[i], 0, 0))});
+  EXPECT_DOUBLE_EQ(pathLength(t, 0.0, 3.0), 6.0);
+  EXPECT_DOUBLE_EQ(pathLength(t, 0.5, 3.0), 5.0);
+  EXPECT_DOUBLE_EQ(pathLength(t, 1.0, 2.0), 2.0);
+  EXPECT_DOUBLE_EQ(pathLength(t, 1.5, 1.9), 0.0);
+}
+
 TEST(Metrics, NoOverlapThrows) {
   const Trajectory gt = stampsOnly({0.0, 0.1, 0.2, 0.3});
   const Trajectory est = stampsOnly({10.0, 10.1, 10.2, 10.3});

@@ -25,14 +25,6 @@ Trajectory keyframeTrajectory(const Odometry& odometry, int segment) {
   return t;
 }
 
-double pathLength(const Trajectory& gt, double t0, double t1) {
-  double length = 0.0;
-  for (size_t i = 1; i < gt.size(); ++i)
-    if (gt[i - 1].timestamp >= t0 && gt[i].timestamp <= t1)
-      length += (gt[i].pose.translation() - gt[i - 1].pose.translation()).norm();
-  return length;
-}
-
 std::string readFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});

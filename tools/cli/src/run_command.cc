@@ -11,6 +11,7 @@
 #include <memory>
 #include <omnidso/cli/commands.hpp>
 #include <omnidso/cli/dataset_runner.hpp>
+#include <omnidso/cli/progress.hpp>
 #include <omnidso/cli/run_outputs.hpp>
 #include <omnidso/core/dataset.hpp>
 #include <omnidso/core/error.hpp>
@@ -46,13 +47,7 @@ void refuseToOverwrite(const std::string& out, bool force) {
 }
 
 void printProgress(size_t done, size_t total, const Odometry& odometry) {
-  const int width = 40;
-  const int filled = total ? static_cast<int>(done * width / total) : width;
-  std::fprintf(stderr, "\r[%s%s] %zu/%zu  keyframes %zu", std::string(filled, '#').c_str(),
-               std::string(width - filled, '.').c_str(), done, total,
-               odometry.keyframes().size());
-  if (done == total) std::fprintf(stderr, "\n");
-  std::fflush(stderr);
+  printProgressBar(done, total, "keyframes " + std::to_string(odometry.keyframes().size()));
 }
 
 void runOdometry(const RunArguments& args) {

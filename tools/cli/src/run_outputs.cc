@@ -33,18 +33,6 @@ nlohmann::json toJson(const Stats& s) {
   return {{"mean", s.mean}, {"median", s.median}, {"count", s.count}};
 }
 
-// Length of the ground-truth path between two times (all its poses, not only matched ones).
-double pathLength(const Trajectory& gt, double t0, double t1) {
-  double length = 0.0;
-  const StampedPose* last = nullptr;
-  for (const StampedPose& p : gt) {
-    if (p.timestamp < t0 || p.timestamp > t1) continue;
-    if (last) length += (p.pose.translation() - last->pose.translation()).norm();
-    last = &p;
-  }
-  return length;
-}
-
 nlohmann::json evaluateSegment(const Trajectory& gt, const Trajectory& est, double max_dt) {
   nlohmann::json j;
   try {

@@ -14,6 +14,7 @@
 
 #include <omnidso/cameras/field_of_view.hpp>
 #include <omnidso/cli/commands.hpp>
+#include <omnidso/cli/progress.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/synth/dataset_writer.hpp>
 #include <omnidso/synth/synthetic_sequence.hpp>
@@ -52,13 +53,7 @@ std::pair<int, int> parseSize(const std::string& text) {
 }
 
 void printProgress(int done, int total, double seconds) {
-  constexpr int kBarWidth = 40;
-  const int filled = total > 0 ? done * kBarWidth / total : kBarWidth;
-  std::fprintf(stderr, "\r[%s%s] %d/%d  %.1f frames/s", std::string(filled, '#').c_str(),
-               std::string(kBarWidth - filled, '.').c_str(), done, total,
-               seconds > 0 ? done / seconds : 0.0);
-  if (done == total) std::fprintf(stderr, "\n");
-  std::fflush(stderr);
+  printProgressBar(done, total, fmt::format("{:.1f} frames/s", seconds > 0 ? done / seconds : 0.0));
 }
 
 void runSynth(const SynthArguments& args, const CLI::App& cmd) {

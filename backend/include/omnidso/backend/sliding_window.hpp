@@ -84,6 +84,9 @@ struct WindowPoint {
   double inverse_distance = 0.0;
   HostPatch<kWindowPatternSize> patch;
   std::map<int, ceres::ResidualBlockId> residuals;  // by target keyframe id
+
+  // The host intensity at the point's own pixel: offset (0, 0) is index 4 of DSO's pattern.
+  float hostIntensity() const { return static_cast<float>(patch.intensity[4]); }
 };
 
 // A point as it left the window by marginalisation: its last estimate, in the world.

@@ -68,6 +68,10 @@ std::vector<double> absolutePositionErrors(const Trajectory& gt, const Trajector
 
 double groundTruthLength(const Trajectory& gt, const Association& association);
 
+// Length of the polyline through every pose of `trajectory` whose timestamp lies in [t0, t1]
+// (all its poses, not only those matched to an estimate).
+double pathLength(const Trajectory& trajectory, double t0, double t1);
+
 enum class DeltaUnit { kFrames, kMeters };
 // "f", "m"; anything else throws Error.
 DeltaUnit parseDeltaUnit(const std::string& name);
