@@ -46,6 +46,7 @@ struct Initializer::Impl {
   Eigen::VectorXd intrinsics;
   SE3Manifold manifold;
   int frames_tried = 0;
+  int snapped_at = -1;  // frames_tried when the parallax first sufficed; -1 before
   std::string status = "no frame yet";
 
   Impl(const Camera& c, const Mask& m, InitializerOptions o)
@@ -61,10 +62,11 @@ struct Initializer::Impl {
     affine = {0.0, 0.0};
     host_affine = {0.0, 0.0};
     frames_tried = 0;
+    snapped_at = -1;
   }
 
   // One level: returns the RMS residual over valid pattern pixels, and the valid mask.
-  double solveLevel(int level, const ImagePyramid& frame, double exposure, bool optimise,
+  double solveLevel(int level, const ImagePyramid& frame, double exposure, double lambda,
                     std::vector<bool>* valid_points) {
     const ImageF& host_image = first->level(level);
     const double margin = patternRadius<kWindowPatternSize>() + 1.0;
@@ -104,11 +106,11 @@ struct Initializer::Impl {
                                  factory->makeCost(DifferentiationMode::kAnalytic, obs), loss.get(),
                                  std::vector<double*>(params, params + 6)));
       problem.AddResidualBlock(
-          new InverseDistanceRegularizer(std::sqrt(options.regularizer_weight), mean_d), nullptr,
+          new InverseDistanceRegularizer(std::sqrt(lambda), mean_d), nullptr,
           &inverse_distances[i]);
     }
     if (blocks.empty()) return std::numeric_limits<double>::infinity();
-    if (optimise) {
+    {
       ceres::Solver::Options so;
       auto* ordering = new ceres::ParameterBlockOrdering;
       for (const auto& [i, id] : blocks) ordering->AddElementToGroup(&inverse_distances[i], 0);
@@ -186,24 +188,34 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
   ++impl_->frames_tried;
   const int levels = std::min({impl_->options.num_levels, frame.numLevels(),
                                impl_->first->numLevels()});
+  const InitializerOptions& o = impl_->options;
+  const double min_parallax =
+      o.min_parallax_px > 0 ? o.min_parallax_px : 0.01 * (impl_->camera.width() + impl_->camera.height());
   std::vector<bool> valid;
   double rmse = std::numeric_limits<double>::infinity();
-  for (int level = levels - 1; level >= 0; --level)
-    rmse = impl_->solveLevel(level, frame, exposure, true, &valid);
+  auto solveAllLevels = [&](double lambda) {
+    for (int level = levels - 1; level >= 0; --level)
+      rmse = impl_->solveLevel(level, frame, exposure, lambda, &valid);
+  };
+  const bool snapped_before = impl_->snapped_at >= 0;
+  solveAllLevels(snapped_before ? o.regularizer_weight : o.pre_snap_regularizer_weight);
+  double parallax = impl_->parallax(valid);
+  if (!snapped_before && parallax >= min_parallax) {
+    impl_->snapped_at = impl_->frames_tried;
+    solveAllLevels(o.regularizer_weight);
+    parallax = impl_->parallax(valid);
+  }
   const int num_valid = static_cast<int>(std::count(valid.begin(), valid.end(), true));
-  const double parallax = impl_->parallax(valid);
-  const double min_parallax = impl_->options.min_parallax_px > 0
-                                  ? impl_->options.min_parallax_px
-                                  : 0.01 * (impl_->camera.width() + impl_->camera.height());
   result.parallax_px = parallax;
   result.rmse = rmse;
   std::ostringstream status;
   status << "after " << impl_->frames_tried << " frames: parallax " << parallax << " px of the "
          << min_parallax << " px needed, photometric error " << rmse << " (at most "
          << impl_->options.max_rmse << "), " << num_valid << " points";
+  if (impl_->snapped_at >= 0) status << ", snapped at frame " << impl_->snapped_at;
   impl_->status = status.str();
-  if (!(parallax >= min_parallax) || !(rmse <= impl_->options.max_rmse) ||
-      num_valid < impl_->options.min_points)
+  if (impl_->snapped_at < 0 || impl_->frames_tried < impl_->snapped_at + o.frames_after_snap ||
+      !(parallax >= min_parallax) || !(rmse <= o.max_rmse) || num_valid < o.min_points)
     return result;
 
   // Scale: mean inverse distance 1 (d' = d/m, t' = m t).

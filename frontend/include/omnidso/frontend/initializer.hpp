@@ -4,13 +4,17 @@
 // frame is aligned to the first by jointly optimising the relative pose, the frame's affine
 // brightness and every point's inverse distance — photometric residuals (eq. 5–7) in one
 // Ceres problem per pyramid level, coarse to fine, starting from the previous frame's
-// solution. While the baseline is too small to observe distances, a weak regulariser
-//   r_reg = √λ · (d − d̄)        (d̄ the mean inverse distance of the points)
-// keeps them together (DSO regularises towards neighbours the same way).
-// The initialisation succeeds once the RMS pixel shift the translation alone causes
-// (parallax) exceeds `min_parallax_px` with a small enough error; the scale is then set so
-// that the mean inverse distance is 1. With a camera standing still it never succeeds, and
-// says so (status()).
+// solution. The inverse distances are regularised towards their mean d̄,
+//   r_reg = √λ · (d − d̄),
+// strongly (λ = pre_snap_regularizer_weight) while the baseline is too small to observe
+// them: with a nearly still or purely rotating camera, free distances otherwise fit noise
+// and aliasing and drag the pose away (the error grows frame after frame). Once the RMS
+// pixel shift the translation alone causes (parallax) exceeds `min_parallax_px`, the
+// initialiser "snaps" (as DSO's does): λ drops to `regularizer_weight`, the frame is solved
+// again, and `frames_after_snap` more frames refine the distances on a growing baseline.
+// It succeeds when, after those, the error is small enough; the scale is then set so that
+// the mean inverse distance is 1. With a camera standing still it never succeeds, and says
+// so (status()).
 
 #include <Eigen/Core>
 #include <memory>
@@ -26,7 +30,9 @@ namespace omnidso {
 struct InitializerOptions {
   int num_levels = 5;
   int max_iterations_per_level = 8;
-  double regularizer_weight = 50.0;    // λ, intensity² per (inverse distance)²
+  double regularizer_weight = 50.0;    // λ after the snap, intensity² per (inverse distance)²
+  double pre_snap_regularizer_weight = 5000.0;  // λ before it
+  int frames_after_snap = 0;
   double min_parallax_px = 0.0;        // 0: use 0.01 · (w + h)
   double max_rmse = 15.0;              // intensity units per residual pixel
   int min_points = 50;
