@@ -11,6 +11,7 @@
 #include <memory>
 #include <omnidso/cli/commands.hpp>
 #include <omnidso/cli/dataset_runner.hpp>
+#include <omnidso/cli/odometry_settings.hpp>
 #include <omnidso/cli/progress.hpp>
 #include <omnidso/cli/run_outputs.hpp>
 #include <omnidso/core/dataset.hpp>
@@ -35,6 +36,8 @@ struct RunArguments {
   bool force = false;
   bool quiet = false;
   bool json = false;
+  std::string config;
+  std::vector<std::string> settings;  // NAME=VALUE, applied after --config
 };
 
 void refuseToOverwrite(const std::string& out, bool force) {
@@ -53,7 +56,6 @@ void printProgress(size_t done, size_t total, const Odometry& odometry) {
 void runOdometry(const RunArguments& args) {
   const DatasetIndex index = openDataset(args.dataset);
   parsePinholeCrop(args.camera_model);  // reject a bad option before touching --out
-  refuseToOverwrite(args.out, args.force);
   DatasetRunOptions options;
   options.camera_model = args.camera_model;
   options.calib = args.calib;
@@ -68,6 +70,9 @@ void runOdometry(const RunArguments& args) {
   o.window.differentiation =
       args.residuals == "autodiff" ? DifferentiationMode::kAutodiff : DifferentiationMode::kAnalytic;
   o.tracker.num_threads = args.threads;
+  if (!args.config.empty()) applyOdometryConfigFile(o, args.config);
+  for (const std::string& s : args.settings) applyOdometrySettingAssignment(o, s);
+  refuseToOverwrite(args.out, args.force);  // after every option has been checked
   if (!args.quiet && ::isatty(STDERR_FILENO))
     options.progress = [](size_t done, size_t total, const Odometry& odometry) {
       if (done % 10 == 0 || done == total) printProgress(done, total, odometry);
@@ -88,6 +93,7 @@ void runOdometry(const RunArguments& args) {
   description.residuals = args.residuals;
   description.frames_processed = total;
   description.wall_s = run.wall_s;
+  description.settings = odometrySettingsJson(o);
   const nlohmann::json summary = writeRunOutputs(args.out, index, odometry, description);
   if (args.json) {
     std::cout << summary.dump(2) << "\n";
@@ -126,6 +132,10 @@ void registerRunCommand(CLI::App& app) {
   cmd->add_option("--residuals", args->residuals, "analytic | autodiff")
       ->check(CLI::IsMember({"analytic", "autodiff"}))
       ->capture_default_str();
+  cmd->add_option("--config", args->config,
+                  "YAML file of odometry settings (NAME: VALUE; docs/architecture.md)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--set", args->settings, "one odometry setting NAME=VALUE (repeatable; after --config)");
   cmd->add_flag("--force", args->force, "write into a non-empty --out");
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--json", args->json, "print the summary as JSON");

@@ -115,7 +115,8 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
                    {"optimize_intrinsics", d.optimize_intrinsics},
                    {"seed", d.seed},
                    {"threads", d.threads},
-                   {"residuals", d.residuals}};
+                   {"residuals", d.residuals},
+                   {"odometry", d.settings}};
   s["counts"] = {{"frames", d.frames_processed},
                  {"tracked_frames", all_frames.size()},
                  {"keyframes", all_keyframes.size()},

@@ -31,6 +31,7 @@ struct RunDescription {
   std::string residuals;
   size_t frames_processed = 0;
   double wall_s = 0.0;
+  nlohmann::json settings = nlohmann::json::object();  // every odometry setting (odometry_settings.hpp)
 };
 
 nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& index,

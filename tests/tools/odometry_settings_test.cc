@@ -1,0 +1,76 @@
+// Named odometry settings (`omnidso run --set`, `--config`): every name reaches its option,
+// and unknown names or bad values are refused with the name in the message.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <omnidso/cli/odometry_settings.hpp>
+#include <omnidso/core/error.hpp>
+
+#include "core/temp_dir.hpp"
+
+namespace omnidso::cli {
+namespace {
+
+TEST(OdometrySettings, AssignmentsReachTheirOptions) {
+  OdometryOptions o;
+  applyOdometrySettingAssignment(o, "window.max_iterations=11");
+  applyOdometrySettingAssignment(o, "initializer.regularizer_weight=2.5e2");
+  applyOdometrySettingAssignment(o, "keyframe_decision.global_weight=1.5");
+  EXPECT_EQ(o.window.max_iterations, 11);
+  EXPECT_DOUBLE_EQ(o.initializer.regularizer_weight, 250.0);
+  EXPECT_DOUBLE_EQ(o.keyframe_decision.global_weight, 1.5);
+}
+
+TEST(OdometrySettings, JsonListsEveryNameWithItsValue) {
+  OdometryOptions o;
+  o.epipolar.min_quality = 4.25;
+  const nlohmann::json j = odometrySettingsJson(o);
+  EXPECT_EQ(j.size(), odometrySettingNames().size());
+  EXPECT_DOUBLE_EQ(j.at("epipolar.min_quality").get<double>(), 4.25);
+  // Every listed name can be set back from its own printed value.
+  OdometryOptions copy;
+  for (const auto& [name, value] : j.items()) applyOdometrySetting(copy, name, value.dump());
+  EXPECT_EQ(odometrySettingsJson(copy), j);
+}
+
+TEST(OdometrySettings, RejectsUnknownNamesAndBadValues) {
+  OdometryOptions o;
+  EXPECT_THROW(applyOdometrySettingAssignment(o, "window.max_iteration=3"), Error);
+  EXPECT_THROW(applyOdometrySettingAssignment(o, "window.max_iterations=3.5"), Error);
+  EXPECT_THROW(applyOdometrySettingAssignment(o, "window.max_iterations=lots"), Error);
+  EXPECT_THROW(applyOdometrySettingAssignment(o, "no_equals_sign"), Error);
+  EXPECT_THROW(applyOdometrySettingAssignment(o, "marginalization.num_protected_newest="), Error);
+  try {
+    applyOdometrySetting(o, "tracker.huber", "9");
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("tracker.huber_threshold"), std::string::npos)
+        << "the message lists the real names: " << e.what();
+  }
+  EXPECT_EQ(o.window.max_iterations, OdometryOptions().window.max_iterations);
+}
+
+TEST(OdometrySettings, ConfigFileTakesNestedAndDottedNamesAndNamesTheLineOfAnError) {
+  test::TempDir dir;
+  const std::string good = dir.file("good.yaml");
+  std::ofstream(good) << "window:\n  max_iterations: 9\ninitializer.max_rmse: 20\n";
+  OdometryOptions o;
+  applyOdometryConfigFile(o, good);
+  EXPECT_EQ(o.window.max_iterations, 9);
+  EXPECT_DOUBLE_EQ(o.initializer.max_rmse, 20.0);
+
+  const std::string bad = dir.file("bad.yaml");
+  std::ofstream(bad) << "window:\n  max_iterations: 9\n  outlier_energy: 3\n";
+  try {
+    applyOdometryConfigFile(o, bad);
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("bad.yaml:3"), std::string::npos) << message;
+    EXPECT_NE(message.find("window.outlier_energy"), std::string::npos) << message;
+  }
+  EXPECT_THROW(applyOdometryConfigFile(o, dir.file("missing.yaml")), Error);
+}
+
+}  // namespace
+}  // namespace omnidso::cli

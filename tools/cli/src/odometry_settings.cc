@@ -1,0 +1,170 @@
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <functional>
+#include <omnidso/cli/odometry_settings.hpp>
+#include <omnidso/core/error.hpp>
+#include <sstream>
+#include <variant>
+
+namespace omnidso::cli {
+namespace {
+
+using SettingTarget = std::variant<int*, double*, bool*, std::uint64_t*>;
+
+struct Setting {
+  const char* name;
+  SettingTarget target;
+};
+
+// The table: one line per option. Structural options (thread counts, differentiation mode,
+// N_f, the number of points) have their own command-line flags and are not repeated here.
+std::vector<Setting> settingsOf(OdometryOptions& o) {
+  return {
+      {"pyramid_levels", &o.pyramid_levels},
+      {"max_activation_interval_px", &o.max_activation_interval_px},
+      {"min_activation_quality", &o.min_activation_quality},
+      {"max_keyframe_interval_frames", &o.max_keyframe_interval_frames},
+      {"window.intrinsics_prior_weight", &o.window.intrinsics_prior_weight},
+      {"window.max_iterations", &o.window.max_iterations},
+      {"window.max_solver_time_s", &o.window.max_solver_time_s},
+      {"window.dense_schur_max_size", &o.window.dense_schur_max_size},
+      {"window.outlier_energy_per_pixel", &o.window.outlier_energy_per_pixel},
+      {"window.min_residuals_per_point", &o.window.min_residuals_per_point},
+      {"window.huber_threshold", &o.window.huber_threshold},
+      {"window.affine_prior_weight_a", &o.window.affine_prior_weight_a},
+      {"window.affine_prior_weight_b", &o.window.affine_prior_weight_b},
+      {"window.gradient_weight_c", &o.window.gradient_weight_c},
+      {"tracker.huber_threshold", &o.tracker.huber_threshold},
+      {"tracker.early_reject_factor", &o.tracker.early_reject_factor},
+      {"tracker.good_enough_factor", &o.tracker.good_enough_factor},
+      {"tracker.min_valid_fraction", &o.tracker.min_valid_fraction},
+      {"tracker.rotation_hypothesis_rad", &o.tracker.rotation_hypothesis_rad},
+      {"tracker.affine_prior_weight_a", &o.tracker.affine_prior_weight_a},
+      {"tracker.affine_prior_weight_b", &o.tracker.affine_prior_weight_b},
+      {"epipolar.max_search_px", &o.epipolar.max_search_px},
+      {"epipolar.converged_px", &o.epipolar.converged_px},
+      {"epipolar.min_quality", &o.epipolar.min_quality},
+      {"epipolar.second_best_radius_px", &o.epipolar.second_best_radius_px},
+      {"epipolar.outlier_energy_per_pixel", &o.epipolar.outlier_energy_per_pixel},
+      {"epipolar.huber", &o.epipolar.huber},
+      {"epipolar.gn_iterations", &o.epipolar.gn_iterations},
+      {"epipolar.match_sigma_px", &o.epipolar.match_sigma_px},
+      {"keyframe_decision.weight_flow_t", &o.keyframe_decision.weight_flow_t},
+      {"keyframe_decision.weight_flow_rt", &o.keyframe_decision.weight_flow_rt},
+      {"keyframe_decision.weight_affine", &o.keyframe_decision.weight_affine},
+      {"keyframe_decision.global_weight", &o.keyframe_decision.global_weight},
+      {"keyframe_decision.rmse_growth_factor", &o.keyframe_decision.rmse_growth_factor},
+      {"marginalization.min_visible_fraction", &o.marginalization.min_visible_fraction},
+      {"marginalization.distance_epsilon", &o.marginalization.distance_epsilon},
+      {"marginalization.num_protected_newest", &o.marginalization.num_protected_newest},
+      {"initializer.max_iterations_per_level", &o.initializer.max_iterations_per_level},
+      {"initializer.regularizer_weight", &o.initializer.regularizer_weight},
+      {"initializer.pre_snap_regularizer_weight", &o.initializer.pre_snap_regularizer_weight},
+      {"initializer.frames_after_snap", &o.initializer.frames_after_snap},
+      {"initializer.min_parallax_px", &o.initializer.min_parallax_px},
+      {"initializer.max_rmse", &o.initializer.max_rmse},
+      {"initializer.min_points", &o.initializer.min_points},
+      {"initializer.max_frames", &o.initializer.max_frames},
+      {"initializer.huber_threshold", &o.initializer.huber_threshold},
+      {"selection.threshold_block_size", &o.initializer.selection.threshold_block_size},
+      {"selection.gradient_threshold_offset", &o.initializer.selection.gradient_threshold_offset},
+      {"selection.coarser_level_factor", &o.initializer.selection.coarser_level_factor},
+      {"selection.border", &o.initializer.selection.border},
+  };
+}
+
+// The whole text must parse as T (no trailing characters); *out is untouched otherwise.
+template <typename T>
+bool parseWhole(const std::string& text, T* out) {
+  std::istringstream in(text);
+  T value{};
+  in >> value;
+  if (in.fail() || !(in >> std::ws).eof()) return false;
+  *out = value;
+  return true;
+}
+
+void assign(const Setting& s, const std::string& value) {
+  const bool ok = std::visit(
+      [&](auto* target) {
+        using T = std::remove_pointer_t<decltype(target)>;
+        if constexpr (std::is_same_v<T, bool>) {
+          if (value == "true" || value == "1") return *target = true, true;
+          if (value == "false" || value == "0") return *target = false, true;
+          return false;
+        } else if constexpr (std::is_unsigned_v<T>) {
+          return value.find('-') == std::string::npos && parseWhole(value, target);
+        } else {
+          return parseWhole(value, target);
+        }
+      },
+      s.target);
+  if (!ok) throw Error(std::string("setting ") + s.name + ": cannot parse '" + value + "'");
+}
+
+void applyYamlNode(OdometryOptions& options, const YAML::Node& node, const std::string& prefix,
+                   const std::string& path) {
+  if (!node.IsMap()) throw Error(path + ": expected a map of settings" +
+                                 (prefix.empty() ? "" : " under '" + prefix + "'"));
+  for (const auto& entry : node) {
+    const std::string name = prefix + entry.first.as<std::string>();
+    if (entry.second.IsMap()) {
+      applyYamlNode(options, entry.second, name + ".", path);
+    } else if (entry.second.IsScalar()) {
+      try {
+        applyOdometrySetting(options, name, entry.second.Scalar());
+      } catch (const Error& e) {
+        throw Error(path + ":" + std::to_string(entry.first.Mark().line + 1) + ": " + e.what());
+      }
+    } else {
+      throw Error(path + ":" + std::to_string(entry.first.Mark().line + 1) + ": setting " +
+                  name + " must be a single value");
+    }
+  }
+}
+
+}  // namespace
+
+void applyOdometrySetting(OdometryOptions& options, const std::string& name, const std::string& value) {
+  for (const Setting& s : settingsOf(options))
+    if (name == s.name) return assign(s, value);
+  std::string known;
+  for (const std::string& n : odometrySettingNames()) known += "\n  " + n;
+  throw Error("unknown setting '" + name + "'; the settings are:" + known);
+}
+
+void applyOdometrySettingAssignment(OdometryOptions& options, const std::string& assignment) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw Error("--set: expected NAME=VALUE, got '" + assignment + "'");
+  applyOdometrySetting(options, assignment.substr(0, eq), assignment.substr(eq + 1));
+}
+
+void applyOdometryConfigFile(OdometryOptions& options, const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw Error(path + ": " + e.what());
+  }
+  if (root.IsNull()) return;  // an empty file changes nothing
+  applyYamlNode(options, root, "", path);
+}
+
+nlohmann::json odometrySettingsJson(const OdometryOptions& options) {
+  OdometryOptions copy = options;
+  nlohmann::json out = nlohmann::json::object();
+  for (const Setting& s : settingsOf(copy))
+    std::visit([&](auto* target) { out[s.name] = *target; }, s.target);
+  return out;
+}
+
+std::vector<std::string> odometrySettingNames() {
+  OdometryOptions o;
+  std::vector<std::string> names;
+  for (const Setting& s : settingsOf(o)) names.push_back(s.name);
+  return names;
+}
+
+}  // namespace omnidso::cli
