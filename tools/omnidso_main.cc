@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   omnidso::cli::registerSynthCommand(app);
   omnidso::cli::registerDatasetCommand(app);
   omnidso::cli::registerRunCommand(app);
+  omnidso::cli::registerAblateCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -13,5 +13,6 @@ void registerEvalCommand(CLI::App& app);    // omnidso eval (ATE, RPE)
 void registerSynthCommand(CLI::App& app);    // omnidso synth (synthetic datasets)
 void registerDatasetCommand(CLI::App& app);  // omnidso dataset info
 void registerRunCommand(CLI::App& app);      // omnidso run (the odometry)
+void registerAblateCommand(CLI::App& app);   // omnidso ablate (the paper's ablation)
 
 }  // namespace omnidso::cli
