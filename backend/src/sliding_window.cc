@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <omnidso/backend/affine_prior.hpp>
+#include <omnidso/backend/intrinsics_prior.hpp>
 #include <omnidso/backend/sliding_window.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/cameras/pyramid_scaling.hpp>
@@ -32,6 +33,9 @@ SlidingWindow::SlidingWindow(const std::string& model_name, const Eigen::VectorX
   problem_ = std::make_unique<ceres::Problem>(problem_options);
   problem_->AddParameterBlock(intrinsics_.data(), static_cast<int>(intrinsics_.size()));
   if (!options_.optimize_intrinsics) problem_->SetParameterBlockConstant(intrinsics_.data());
+  else if (options_.intrinsics_prior_weight > 0)
+    problem_->AddResidualBlock(new IntrinsicsPrior(intrinsics_, options_.intrinsics_prior_weight),
+                               nullptr, intrinsics_.data());
 }
 
 SlidingWindow::~SlidingWindow() = default;

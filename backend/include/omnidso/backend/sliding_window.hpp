@@ -50,6 +50,9 @@ namespace omnidso {
 struct WindowOptions {
   int max_keyframes = 7;  // N_f
   bool optimize_intrinsics = true;
+  // intrinsics_prior.hpp: energy per squared pixel of image displacement pulling the
+  // intrinsics towards the calibration they started from; 0 leaves them free.
+  double intrinsics_prior_weight = 0.0;
   DifferentiationMode differentiation = DifferentiationMode::kAnalytic;
   int max_iterations = 6;
   double max_solver_time_s = 1e6;
