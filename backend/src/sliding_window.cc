@@ -282,6 +282,7 @@ WindowSolveSummary SlidingWindow::solve() {
                                   ? ceres::DENSE_SCHUR
                                   : ceres::SPARSE_SCHUR;
   solver.max_num_iterations = options_.max_iterations;
+  solver.function_tolerance = options_.function_tolerance;
   solver.max_solver_time_in_seconds = options_.max_solver_time_s;
   solver.num_threads = options_.num_threads;
   solver.logging_type = ceres::SILENT;
@@ -301,17 +302,44 @@ WindowSolveSummary SlidingWindow::solve() {
   return out;
 }
 
+// Raw energy ‖r‖² of every block: one Problem::Evaluate for all (fast); if some block cannot
+// be evaluated (its point left the image), block by block, the failed ones as infinite.
+std::vector<double> SlidingWindow::residualEnergies(const std::vector<ceres::ResidualBlockId>& blocks) const {
+  std::vector<double> energy(blocks.size(), std::numeric_limits<double>::infinity());
+  ceres::Problem::EvaluateOptions eval;
+  eval.residual_blocks = blocks;
+  eval.apply_loss_function = false;
+  eval.num_threads = options_.num_threads;
+  std::vector<double> r;
+  if (problem_->Evaluate(eval, nullptr, &r, nullptr, nullptr)) {
+    for (size_t b = 0; b < blocks.size(); ++b) {
+      energy[b] = 0.0;
+      for (int i = 0; i < kWindowPatternSize; ++i)
+        energy[b] += r[b * kWindowPatternSize + i] * r[b * kWindowPatternSize + i];
+    }
+    return energy;
+  }
+  std::array<double, kWindowPatternSize> rb;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    double cost = 0.0;  // ½‖r‖²
+    if (problem_->EvaluateResidualBlock(blocks[b], false, &cost, rb.data(), nullptr))
+      energy[b] = 2.0 * cost;
+  }
+  return energy;
+}
+
 int SlidingWindow::removeOutliers() {
   const double threshold = options_.outlier_energy_per_pixel * kWindowPatternSize;
+  std::vector<ceres::ResidualBlockId> blocks;
+  for (const auto& [pid, point] : points_)
+    for (const auto& [target, id] : point->residuals) blocks.push_back(id);
+  const std::vector<double> energy = residualEnergies(blocks);
   int removed = 0;
+  size_t b = 0;
   std::vector<int> weak_points;
-  std::array<double, kWindowPatternSize> r;
   for (auto& [pid, point] : points_) {
-    for (auto it = point->residuals.begin(); it != point->residuals.end();) {
-      double cost = 0.0;
-      const bool ok =
-          problem_->EvaluateResidualBlock(it->second, false, &cost, r.data(), nullptr);
-      if (!ok || 2.0 * cost > threshold) {  // cost = ½‖r‖²
+    for (auto it = point->residuals.begin(); it != point->residuals.end(); ++b) {
+      if (!(energy[b] <= threshold)) {
         problem_->RemoveResidualBlock(it->second);
         it = point->residuals.erase(it);
         ++removed;

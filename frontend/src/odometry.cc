@@ -289,6 +289,7 @@ struct Odometry::Impl {
     last_rmse = tracking.rmse;
     if (!std::isfinite(first_rmse)) first_rmse = tracking.rmse;
 
+    record.timing.tracking_ms = watch.lapMs();
     // Epipolar-curve search of every window keyframe's immature points in this frame.
     const SE3d T_frame_world = T_world_frame.inverse();
     for (auto& [host_id, list] : immature) {
@@ -307,7 +308,7 @@ struct Odometry::Impl {
       }
       list.swap(keep);
     }
-    record.timing.tracking_ms = watch.lapMs();
+    record.timing.search_ms = watch.lapMs();
 
     const double brightness = exposure * std::exp(tracking.affine.x()) /
                               (ref.exposure * std::exp(ref.affine[0]));
@@ -320,6 +321,7 @@ struct Odometry::Impl {
     ++frames_since_keyframe;
     const bool forced = options.max_keyframe_interval_frames > 0 &&
                         frames_since_keyframe >= options.max_keyframe_interval_frames;
+    record.timing.tracking_ms += watch.lapMs();
     if (decision.make_keyframe || forced) {
       makeKeyframe(record, pyramid, exposure, T_world_frame, tracking.affine);
       record.timing.mapping_ms = watch.lapMs();

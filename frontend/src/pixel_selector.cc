@@ -8,7 +8,15 @@ namespace omnidso {
 namespace {
 
 float gradientNorm(const ImageGradients& g, int u, int v) {
-  return std::hypot(g.dx(u, v), g.dy(u, v));
+  return std::sqrt(g.dx(u, v) * g.dx(u, v) + g.dy(u, v) * g.dy(u, v));
+}
+
+// ‖∇I‖ of a whole level, computed once per selection (every adaptation round reads it).
+Image<float> gradientNormImage(const ImageGradients& g) {
+  Image<float> out(g.dx.width(), g.dx.height());
+  for (size_t i = 0; i < out.size(); ++i)
+    out.data()[i] = std::sqrt(g.dx.data()[i] * g.dx.data()[i] + g.dy.data()[i] * g.dy.data()[i]);
+  return out;
 }
 
 // The mask eroded by `radius` (and the image border): where a pattern fits entirely.
@@ -39,7 +47,10 @@ class Selector {
  public:
   Selector(const ImagePyramid& pyramid, const Mask& usable, const Image<float>& thresholds,
            const PixelSelectorOptions& options)
-      : pyramid_(pyramid), usable_(usable), thresholds_(thresholds), options_(options) {}
+      : pyramid_(pyramid), usable_(usable), thresholds_(thresholds), options_(options) {
+    for (int level = 0; level < std::min(3, pyramid.numLevels()); ++level)
+      norms_.push_back(gradientNormImage(pyramid.gradients(level)));
+  }
 
   std::vector<SelectedPixel> run(int d) {
     std::vector<SelectedPixel> out;
@@ -86,11 +97,11 @@ class Selector {
   // Level-L gradient at the level-L pixel covering level-0 pixel (u, v).
   void consider(int level, int u, int v, const Eigen::Vector2f& dir, double factor,
                 Candidate* best) const {
-    if (level >= pyramid_.numLevels()) return;
+    if (level >= static_cast<int>(norms_.size())) return;
     const ImageGradients& g = pyramid_.gradients(level);
     const int ul = std::min(u >> level, g.dx.width() - 1);
     const int vl = std::min(v >> level, g.dx.height() - 1);
-    const float norm = gradientNorm(g, ul, vl);
+    const float norm = norms_[level](ul, vl);
     const int bs = options_.threshold_block_size;
     const float threshold =
         static_cast<float>(factor) *
@@ -104,9 +115,11 @@ class Selector {
     SelectedPixel p;
     p.pixel = Eigen::Vector2i(c.u, c.v);
     p.level = level;
-    p.gradient = gradientNorm(pyramid_.gradients(0), c.u, c.v);
+    p.gradient = norms_[0](c.u, c.v);
     return p;
   }
+
+  std::vector<Image<float>> norms_;  // ‖∇I‖ of levels 0–2
 
   const ImagePyramid& pyramid_;
   const Mask& usable_;

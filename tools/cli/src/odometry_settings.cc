@@ -27,6 +27,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"max_keyframe_interval_frames", &o.max_keyframe_interval_frames},
       {"window.intrinsics_prior_weight", &o.window.intrinsics_prior_weight},
       {"window.max_iterations", &o.window.max_iterations},
+      {"window.function_tolerance", &o.window.function_tolerance},
       {"window.max_solver_time_s", &o.window.max_solver_time_s},
       {"window.dense_schur_max_size", &o.window.dense_schur_max_size},
       {"window.outlier_energy_per_pixel", &o.window.outlier_energy_per_pixel},

@@ -55,6 +55,9 @@ struct WindowOptions {
   double intrinsics_prior_weight = 0.0;
   DifferentiationMode differentiation = DifferentiationMode::kAnalytic;
   int max_iterations = 6;
+  // Ceres's function_tolerance: stop once an iteration lowers the cost by less than this
+  // fraction (DSO likewise stops early once its updates become small).
+  double function_tolerance = 1e-6;
   double max_solver_time_s = 1e6;
   int num_threads = 1;
   // Reduced camera systems up to this size use DENSE_SCHUR, larger ones SPARSE_SCHUR.
@@ -168,6 +171,7 @@ class SlidingWindow {
   std::optional<WindowObservation> observation(const WindowPoint& point,
                                                const WindowKeyframe& target, int level) const;
   void rebuildResiduals(int level, const std::map<int, std::vector<int>>& targets_by_point);
+  std::vector<double> residualEnergies(const std::vector<ceres::ResidualBlockId>& blocks) const;
   WindowSolveSummary solve();
   void removePoint(int id, bool marginalize);
   int dropInvalidResiduals();

@@ -44,7 +44,9 @@ struct OdometryOptions {
 };
 
 struct FrameTiming {
-  double tracking_ms = 0.0;  // tracking + epipolar search
+  double tracking_ms = 0.0;  // direct image alignment and the keyframe decision
+  double search_ms = 0.0;    // epipolar-curve search of the immature points (DSO does it in
+                             // its mapping thread; here it runs after tracking)
   double mapping_ms = 0.0;   // window optimisation + marginalisation (keyframes only)
 };
 
