@@ -17,6 +17,7 @@
 #include <omnidso/cli/ablation_run_result.hpp>
 #include <omnidso/cli/ablation_tables.hpp>
 #include <omnidso/cli/commands.hpp>
+#include <omnidso/cli/odometry_settings.hpp>
 #include <omnidso/cli/process_pool.hpp>
 #include <omnidso/cli/progress.hpp>
 #include <omnidso/core/dataset.hpp>
@@ -189,6 +190,15 @@ void runAblate(const AblateArguments& args) {
   spec.runs = args.runs;
   spec.base_seed = args.seed;
   spec.pass_through = args.pass_through;
+  {  // bad settings are refused here, not by every run; the runs get an absolute path
+    OdometryOptions check;
+    if (!spec.pass_through.config.empty()) {
+      applyOdometryConfigFile(check, spec.pass_through.config);
+      spec.pass_through.config = std::filesystem::absolute(spec.pass_through.config).string();
+    }
+    for (const std::string& setting : spec.pass_through.settings)
+      applyOdometrySettingAssignment(check, setting);
+  }
   const AblationPlan plan = planAblation(spec, args.out);
   std::vector<DatasetTruth> truths;  // cells are dataset-major: one per dataset
   for (size_t c = 0; c < plan.cells.size(); c += spec.camera_models.size() * spec.keyframes.size())
@@ -274,6 +284,9 @@ void registerAblateCommand(CLI::App& app) {
   cmd->add_option("--residuals", p.residuals, "passed to every run: analytic | autodiff")
       ->check(CLI::IsMember({"analytic", "autodiff"}))
       ->capture_default_str();
+  cmd->add_option("--config", p.config, "odometry settings file passed to every run")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--set", p.settings, "odometry setting NAME=VALUE passed to every run (repeatable)");
   cmd->add_option("--omnidso", args->executable,
                   "the omnidso executable that performs the runs (default: this one)");
   cmd->add_flag("--quiet", args->quiet, "no progress output");

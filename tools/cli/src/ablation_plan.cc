@@ -47,6 +47,8 @@ std::vector<std::string> runArguments(const AblationCell& cell, const RunPassThr
   for (const auto& [name, value] : options) a.insert(a.end(), {name, value});
   if (p.max_frames > 0) a.insert(a.end(), {"--max-frames", std::to_string(p.max_frames)});
   if (p.no_intrinsics_opt) a.push_back("--no-intrinsics-opt");
+  if (!p.config.empty()) a.insert(a.end(), {"--config", p.config});
+  for (const std::string& setting : p.settings) a.insert(a.end(), {"--set", setting});
   return a;
 }
 
@@ -59,7 +61,9 @@ nlohmann::json runSettings(const AblationCell& cell, const RunPassThrough& p, st
           {"max_frames", p.max_frames},
           {"optimize_intrinsics", !p.no_intrinsics_opt},
           {"threads", p.threads},
-          {"residuals", p.residuals}};
+          {"residuals", p.residuals},
+          {"config", p.config},
+          {"settings", p.settings}};
 }
 
 }  // namespace

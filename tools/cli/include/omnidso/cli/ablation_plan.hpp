@@ -24,6 +24,8 @@ struct RunPassThrough {
   bool no_intrinsics_opt = false;
   int threads = 1;
   std::string residuals = "analytic";
+  std::string config;                 // --config FILE (odometry settings), empty: none
+  std::vector<std::string> settings;  // --set NAME=VALUE, in order
 };
 
 struct AblationSpec {
