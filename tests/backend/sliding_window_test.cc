@@ -107,6 +107,16 @@ Errors compare(const SlidingWindow& window, const WindowScene& ws,
   return e;
 }
 
+// Window options for recovering a perturbed state. Iterations per level: DSO's 6 suit the
+// odometry, whose estimates arrive nearly right; recovering 2 cm / 1° from scratch takes more.
+WindowOptions recoveryOptions(int num_keyframes, bool optimize_intrinsics) {
+  WindowOptions options;
+  options.max_keyframes = num_keyframes;
+  options.optimize_intrinsics = optimize_intrinsics;
+  options.max_iterations = 100;
+  return options;
+}
+
 // The window at ground truth: the scene's keyframes, and one point at the strongest-gradient
 // pixel of every cell × cell block of each keyframe with its true inverse distance
 // (returned in true_inverse_distance by point id).
@@ -138,14 +148,9 @@ Errors perturbAndRecover() {
   const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
   const int num_keyframes = 5;
   const WindowScene ws(camera, num_keyframes, sweep);
-  WindowOptions options;
-  options.max_keyframes = num_keyframes;
-  options.optimize_intrinsics = false;
-  // Per level. DSO's 6 iterations suit the odometry, whose estimates arrive nearly right;
-  // recovering 2 cm / 1° from scratch takes more.
-  options.max_iterations = 100;
   std::map<int, double> true_d;
-  const auto window = groundTruthWindow(camera, ws, options, 24, &true_d);
+  const auto window =
+      groundTruthWindow(camera, ws, recoveryOptions(num_keyframes, false), 24, &true_d);
   EXPECT_GT(window->numPoints(), 250);
 
   std::mt19937 rng(42);
@@ -200,12 +205,9 @@ TEST_P(SlidingWindowIntrinsics, RecoversIntrinsicsPerturbedByOnePercent) {
   const Camera camera = synth::syntheticCamera("ucm", 185.0, 480, 480);
   constexpr int kNumKeyframes = 7;
   const WindowScene ws(camera, kNumKeyframes, lookAround<kNumKeyframes>);
-  WindowOptions options;
-  options.max_keyframes = kNumKeyframes;
-  options.optimize_intrinsics = true;
-  options.max_iterations = 100;
   std::map<int, double> true_d;
-  const auto window = groundTruthWindow(camera, ws, options, 24, &true_d);
+  const auto window =
+      groundTruthWindow(camera, ws, recoveryOptions(kNumKeyframes, true), 24, &true_d);
   EXPECT_GT(window->numPoints(), 600);
   const Eigen::VectorXd truth = camera.params();
   ASSERT_EQ(truth.size(), 5);  // fx fy cx cy ξ
