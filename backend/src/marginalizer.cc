@@ -123,13 +123,41 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
     first_estimate[i] = lin ? *lin : current[i];
   }
 
-  // 2. Linearise: r at the current estimate, J at the first-estimate point.
+  // 2. Linearise: r at the current estimate, J at the first-estimate point. A residual that
+  // cannot be evaluated at the current estimate (its point projects out of the target)
+  // carries no information there: it is left out of the prior (and removed below).
   ceres::Problem::EvaluateOptions eval;
   eval.parameter_blocks = ordered;
   eval.residual_blocks = residual_blocks;
   std::vector<double> r_current;
   ceres::CRSMatrix jacobian_crs;
-  problem.Evaluate(eval, nullptr, &r_current, nullptr, &jacobian_crs);
+  // (An empty residual list means "all residuals" to Problem::Evaluate: never pass one.)
+  bool evaluated = !residual_blocks.empty() &&
+                   problem.Evaluate(eval, nullptr, &r_current, nullptr, &jacobian_crs);
+  if (!evaluated && !residual_blocks.empty()) {
+    std::vector<ceres::ResidualBlockId> evaluable;
+    for (ceres::ResidualBlockId id : residual_blocks) {
+      double cost = 0.0;
+      if (problem.EvaluateResidualBlock(id, true, &cost, nullptr, nullptr)) evaluable.push_back(id);
+    }
+    local_stats.num_unevaluable_residual_blocks =
+        static_cast<int>(residual_blocks.size() - evaluable.size());
+    eval.residual_blocks = evaluable;
+    r_current.clear();
+    evaluated = !evaluable.empty() &&
+                problem.Evaluate(eval, nullptr, &r_current, nullptr, &jacobian_crs);
+  }
+  if (!evaluated) {  // nothing to linearise: the blocks leave without a prior
+    for (ceres::ResidualBlockId id : residual_blocks) problem.RemoveResidualBlock(id);
+    for (double* b : blocks) {
+      problem.RemoveParameterBlock(b);
+      linearization_points_.erase(b);
+    }
+    local_stats.num_residual_blocks = static_cast<int>(residual_blocks.size());
+    local_stats.num_marginalized_blocks = static_cast<int>(blocks.size());
+    if (stats) *stats = local_stats;
+    return nullptr;
+  }
   const SparseRowMajor J_current = toSparse(jacobian_crs);
 
   for (size_t i = 0; i < ordered.size(); ++i)

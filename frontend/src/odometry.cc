@@ -1,5 +1,7 @@
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <functional>
 #include <map>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/timing.hpp>
@@ -20,7 +22,7 @@ struct Odometry::Impl {
 
   std::vector<FrameRecord> frames;
   std::map<int, KeyframeRecord> keyframes;  // every keyframe ever; poses kept current
-  std::vector<OdometryPoint> points;        // marginalised points
+  std::deque<OdometryPoint> points;         // marginalised points (a deque: no 2× regrowth)
   std::vector<std::string> log;
 
   bool initialized = false;
@@ -89,15 +91,18 @@ struct Odometry::Impl {
   }
 
   // The window's active points (those not at infinity), in the world.
-  void appendActivePoints(std::vector<OdometryPoint>& out) const {
+  void visitActivePoints(const std::function<void(const OdometryPoint&)>& visit) const {
     for (const auto& [pid, point] : window->points())
       if (point->inverse_distance > 0.0)
-        out.push_back({window->pointInWorld(*point), point->hostIntensity(), segment});
+        visit({window->pointInWorld(*point).cast<float>(), point->hostIntensity(), segment});
+  }
+  void appendActivePoints(std::deque<OdometryPoint>& out) const {
+    visitActivePoints([&](const OdometryPoint& p) { out.push_back(p); });
   }
 
   void collectMarginalizedPoints() {
     for (const MarginalizedPoint& m : window->takeMarginalizedPoints())
-      points.push_back({m.position_world, m.intensity, segment});
+      points.push_back({m.position_world.cast<float>(), m.intensity, segment});
   }
 
   void setTrackingReference(int id) {
@@ -383,9 +388,22 @@ std::vector<KeyframeRecord> Odometry::keyframes() const {
 }
 
 std::vector<OdometryPoint> Odometry::points() const {
-  std::vector<OdometryPoint> out = impl_->points;
-  if (impl_->window) impl_->appendActivePoints(out);
+  std::vector<OdometryPoint> out;
+  out.reserve(numPoints());
+  forEachPoint([&](const OdometryPoint& p) { out.push_back(p); });
   return out;
+}
+
+void Odometry::forEachPoint(const std::function<void(const OdometryPoint&)>& visit) const {
+  for (const OdometryPoint& p : impl_->points) visit(p);
+  if (impl_->window) impl_->visitActivePoints(visit);
+}
+
+size_t Odometry::numPoints() const {
+  size_t n = impl_->points.size();
+  if (impl_->window)
+    for (const auto& [pid, point] : impl_->window->points()) n += point->inverse_distance > 0.0;
+  return n;
 }
 
 bool Odometry::initialized() const { return impl_->initialized; }

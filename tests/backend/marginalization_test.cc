@@ -316,5 +316,61 @@ TEST(Marginalization, ManifoldBlockPriorMatchesCovarianceAndKeepsTangentJacobian
   EXPECT_LT((J - prior->sqrtInformation()).norm(), 1e-12 * prior->sqrtInformation().norm());
 }
 
+// A residual that cannot be evaluated at the current estimate (as a photometric residual
+// whose point has left the target image).
+class FailingCost : public ceres::SizedCostFunction<1, 1, 1> {
+ public:
+  bool Evaluate(double const* const*, double*, double**) const override { return false; }
+};
+
+// Marginalising blocks with no residual at all (a keyframe whose residuals all went before
+// it, with no brightness prior) removes them and adds no prior — and leaves every other
+// residual alone (Problem::Evaluate reads an empty residual list as "all residuals").
+TEST(Marginalization, BlocksWithoutResidualsLeaveWithoutAPrior) {
+  ceres::Problem problem;
+  double x = 1.0, y = 2.0;
+  problem.AddParameterBlock(&x, 1);
+  problem.AddResidualBlock(new LinearCost(Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Ones(1), {1}),
+                           nullptr, &y);
+  Marginalizer marginalizer;
+  MarginalizationStats stats;
+  EXPECT_EQ(marginalizer.marginalize(problem, {&x}, &stats), nullptr);
+  EXPECT_FALSE(problem.HasParameterBlock(&x));
+  EXPECT_TRUE(problem.HasParameterBlock(&y));
+  EXPECT_EQ(problem.NumResidualBlocks(), 1);
+  EXPECT_EQ(stats.prior_rank, 0);
+}
+
+// A residual that cannot be evaluated is left out of the prior; the prior comes from the
+// others alone: here r = x + y − 3 (unit weight) gives the prior information 1 on y.
+TEST(Marginalization, UnevaluableResidualsAreLeftOutOfThePrior) {
+  ceres::Problem problem;
+  double x = 1.0, y = 2.0, z = 0.5;
+  problem.AddResidualBlock(new LinearCost(Eigen::MatrixXd::Ones(1, 2), 3.0 * Eigen::VectorXd::Ones(1), {1, 1}),
+                           nullptr, &x, &y);
+  problem.AddResidualBlock(new LinearCost(Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Zero(1), {1}),
+                           nullptr, &x);  // r = x: x is determined, so y keeps information
+  problem.AddResidualBlock(new FailingCost, nullptr, &x, &z);
+  Marginalizer marginalizer;
+  MarginalizationStats stats;
+  const ceres::ResidualBlockId prior = marginalizer.marginalize(problem, {&x}, &stats);
+  ASSERT_NE(prior, nullptr);
+  EXPECT_EQ(stats.num_unevaluable_residual_blocks, 1);
+  EXPECT_FALSE(problem.HasParameterBlock(&x));
+  // H = [[2, 1], [1, 1]] over (x, y) → Schur onto y: 1 − 1·1/2 = 0.5. z got no information.
+  ceres::Problem::EvaluateOptions eval;
+  eval.residual_blocks = {prior};
+  eval.parameter_blocks = {&y, &z};
+  ceres::CRSMatrix crs;
+  ASSERT_TRUE(problem.Evaluate(eval, nullptr, nullptr, nullptr, &crs));
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int row = 0; row < crs.num_rows; ++row)
+    for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) J(row, crs.cols[k]) = crs.values[k];
+  const Eigen::MatrixXd information = J.transpose() * J;
+  ASSERT_EQ(information.rows(), 2);
+  EXPECT_NEAR(information(0, 0), 0.5, 1e-9);
+  EXPECT_NEAR(information(1, 1), 0.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace omnidso

@@ -78,16 +78,17 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
   writeTum(out_dir + "/frames.txt", all_frames);
   writeTum(out_dir + "/keyframes.txt", all_keyframes);
 
-  const std::vector<OdometryPoint> points = odometry.points();
+  const size_t num_points = odometry.numPoints();
   {
     std::ofstream ply(out_dir + "/points.ply");
     if (!ply) throw Error(out_dir + "/points.ply: cannot write");
-    ply << "ply\nformat ascii 1.0\nelement vertex " << points.size()
+    ply << "ply\nformat ascii 1.0\nelement vertex " << num_points
         << "\nproperty float x\nproperty float y\nproperty float z\n"
            "property float intensity\nproperty int segment\nend_header\n";
-    for (const OdometryPoint& p : points)
+    odometry.forEachPoint([&](const OdometryPoint& p) {  // no copy of a long run's map
       ply << fmt::format("{:.6f} {:.6f} {:.6f} {:.2f} {}\n", p.position_world.x(),
                          p.position_world.y(), p.position_world.z(), p.intensity, p.segment);
+    });
   }
   // Tracking and search: every tracked frame after the first of its segment; mapping: every
   // keyframe that ran the window.
@@ -123,7 +124,7 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
   s["counts"] = {{"frames", d.frames_processed},
                  {"tracked_frames", all_frames.size()},
                  {"keyframes", all_keyframes.size()},
-                 {"points", points.size()},
+                 {"points", num_points},
                  {"segments", frames_by_segment.size()}};
   s["timing"] = {{"tracking_ms_per_frame", toJson(stats(tracking_ms))},
                  {"search_ms_per_frame", toJson(stats(search_ms))},

@@ -39,6 +39,7 @@ struct MarginalizationStats {
   int num_prior_blocks = 0;  // blocks the new prior connects
   int prior_rank = 0;
   bool used_first_estimate_jacobians = true;
+  int num_unevaluable_residual_blocks = 0;  // left out: not evaluable at the current estimate
 };
 
 class Marginalizer {

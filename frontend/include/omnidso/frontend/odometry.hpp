@@ -22,6 +22,7 @@
 #include <omnidso/frontend/initializer.hpp>
 #include <omnidso/frontend/keyframe_decision.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -68,8 +69,10 @@ struct KeyframeRecord {
   SE3d T_world_cam;  // latest estimate (final once marginalised)
 };
 
+// Stored for the whole run (hundreds of thousands on long sequences): single precision
+// keeps the map at 20 bytes a point — a micrometre at 10 m.
 struct OdometryPoint {
-  Eigen::Vector3d position_world;
+  Eigen::Vector3f position_world;
   float intensity = 0.f;
   int segment = 0;
 };
@@ -91,6 +94,9 @@ class Odometry {
   SE3d framePose(const FrameRecord& frame) const;
   std::vector<KeyframeRecord> keyframes() const;
   std::vector<OdometryPoint> points() const;  // marginalised and active points
+  // The same points one by one, without copying the map (writers of long runs).
+  void forEachPoint(const std::function<void(const OdometryPoint&)>& visit) const;
+  size_t numPoints() const;
   bool initialized() const;
   // The intrinsics as currently estimated (the calibration's while nothing is optimised).
   Eigen::VectorXd intrinsics() const;
