@@ -3,6 +3,8 @@
 #include <deque>
 #include <functional>
 #include <map>
+#include <mutex>
+#include <omnidso/frontend/mapping_worker.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/timing.hpp>
 #include <omnidso/frontend/odometry.hpp>
@@ -16,11 +18,23 @@ struct Odometry::Impl {
   OdometryOptions options;
 
   std::unique_ptr<SlidingWindow> window;
-  std::unique_ptr<CoarseTracker> tracker;
+  // What tracking aligns to: set by the mapping side (setTrackingReference), picked up by
+  // the tracking side at its next frame (adoptPublishedReference). In the real-time mode the
+  // two sides are two threads, hence the mutex.
+  struct TrackingReference {
+    std::shared_ptr<const CoarseTracker> tracker;
+    int id = -1;
+    SE3d T_world_ref;
+    double exposure = 1.0;
+    Eigen::Vector2d affine = Eigen::Vector2d::Zero();
+  };
+  std::mutex reference_mutex;
+  TrackingReference published;  // guarded by reference_mutex
+  TrackingReference reference;  // the tracking side's copy
   std::unique_ptr<Initializer> initializer;
   std::map<int, std::vector<ImmaturePoint>> immature;  // by host keyframe
 
-  std::vector<FrameRecord> frames;
+  std::deque<FrameRecord> frames;  // a deque: records stay put while the mapper writes timings
   std::map<int, KeyframeRecord> keyframes;  // every keyframe ever; poses kept current
   std::deque<OdometryPoint> points;         // marginalised points (a deque: no 2× regrowth)
   std::vector<std::string> log;
@@ -30,7 +44,6 @@ struct Odometry::Impl {
   int first_frame_index = -1;
   std::shared_ptr<const ImagePyramid> first_pyramid;
   double first_exposure = 1.0;
-  int reference_id = -1;
   double last_rmse = std::numeric_limits<double>::infinity();
   double first_rmse = std::numeric_limits<double>::infinity();  // since the newest keyframe
   SE3d T_world_last, T_world_prev;
@@ -53,6 +66,7 @@ struct Odometry::Impl {
       options.epipolar.max_search_px = 0.027 * (camera.width() + camera.height());
     options.window.num_threads = std::max(1, options.window.num_threads);
     newInitializer();
+    if (options.realtime) worker = std::make_unique<MappingWorker>();
   }
 
   void newInitializer() {
@@ -116,9 +130,18 @@ struct Odometry::Impl {
       if (!camera.project(x, u)) continue;
       refs.push_back({u, 1.0 / x.norm()});
     }
-    tracker = std::make_unique<CoarseTracker>(camera, options.tracker);
+    auto tracker = std::make_shared<CoarseTracker>(camera, options.tracker);
     tracker->setReference(kf.pyramid, kf.exposure, Eigen::Vector2d(kf.affine[0], kf.affine[1]), refs);
-    reference_id = id;
+    std::lock_guard<std::mutex> lock(reference_mutex);
+    published = {std::move(tracker), id, kf.T_world_cam(), kf.exposure,
+                 Eigen::Vector2d(kf.affine[0], kf.affine[1])};
+  }
+
+  // Tracking side: a newer reference from the mapping side replaces the current one.
+  void adoptPublishedReference() {
+    std::lock_guard<std::mutex> lock(reference_mutex);
+    if (published.id == reference.id && published.tracker == reference.tracker) return;
+    reference = published;
     first_rmse = std::numeric_limits<double>::infinity();
   }
 
@@ -185,13 +208,6 @@ struct Odometry::Impl {
     collectMarginalizedPoints();
     selectImmaturePoints(record.index, *pyramid);
     setTrackingReference(record.index);
-    record.is_keyframe = true;
-    record.reference_keyframe = record.index;
-    record.T_frame_ref = SE3d();
-    last_affine = Eigen::Vector2d(window->keyframe(record.index).affine[0],
-                                  window->keyframe(record.index).affine[1]);
-    T_world_last = window->keyframe(record.index).T_world_cam();
-    frames_since_keyframe = 0;
   }
 
   // ---- initialisation --------------------------------------------------------------
@@ -260,7 +276,11 @@ struct Odometry::Impl {
     appendActivePoints(points);
     last_intrinsics = window->intrinsics();
     window.reset();
-    tracker.reset();
+    {
+      std::lock_guard<std::mutex> lock(reference_mutex);
+      published = {};
+    }
+    reference = {};
     immature.clear();
     initialized = false;
     ++segment;
@@ -272,51 +292,87 @@ struct Odometry::Impl {
     last_rmse = std::numeric_limits<double>::infinity();
   }
 
-  // ---- tracking --------------------------------------------------------------------
-  void trackFrame(FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,
-                  double exposure) {
-    Stopwatch watch;
-    const WindowKeyframe& ref = window->keyframe(reference_id);
-    const SE3d T_ref_world = ref.T_world_cam().inverse();
-    const SE3d T_last_ref = (T_ref_world * T_world_last).inverse();
-    const SE3d velocity = T_world_last.inverse() * T_world_prev;  // T_last_prev
-    const TrackingResult tracking = tracker->track(
-        *pyramid, exposure, tracker->makeHypotheses(T_last_ref, velocity), last_affine, last_rmse);
-    if (!tracking.ok) {
-      loseTracking(record, pyramid, exposure);
-      record.timing.tracking_ms = watch.elapsedMs();
-      return;
-    }
-    const SE3d T_world_frame = ref.T_world_cam() * tracking.T_frame_ref.inverse();
-    record.tracked = true;
-    record.reference_keyframe = reference_id;
-    record.T_frame_ref = tracking.T_frame_ref;
-    last_rmse = tracking.rmse;
-    if (!std::isfinite(first_rmse)) first_rmse = tracking.rmse;
+  // ---- mapping side ----------------------------------------------------------------
+  // What a tracked frame hands to mapping. `record` stays valid: frames is a deque.
+  struct MappingJob {
+    FrameRecord* record = nullptr;
+    std::shared_ptr<const ImagePyramid> pyramid;
+    double exposure = 1.0;
+    SE3d T_world_frame;
+    Eigen::Vector2d affine = Eigen::Vector2d::Zero();
+    bool make_keyframe = false;
+    int reference_id = -1;  // the keyframe tracking aligned the frame to
+  };
 
-    record.timing.tracking_ms = watch.lapMs();
-    // Epipolar-curve search of every window keyframe's immature points in this frame.
-    const SE3d T_frame_world = T_world_frame.inverse();
+  // Epipolar-curve search of every window keyframe's immature points in the frame (step 3),
+  // then, for a keyframe, the window (step 5).
+  void map(const MappingJob& job) {
+    Stopwatch watch;
+    const SE3d T_frame_world = job.T_world_frame.inverse();
     for (auto& [host_id, list] : immature) {
       const WindowKeyframe& host = window->keyframe(host_id);
       const SE3d T_frame_host = T_frame_world * host.T_world_cam();
       AffineTransfer transfer;
-      transfer.a = exposure * std::exp(tracking.affine.x()) / (host.exposure * std::exp(host.affine[0]));
-      transfer.b = tracking.affine.y() - transfer.a * host.affine[1];
+      transfer.a = job.exposure * std::exp(job.affine.x()) / (host.exposure * std::exp(host.affine[0]));
+      transfer.b = job.affine.y() - transfer.a * host.affine[1];
       std::vector<ImmaturePoint> keep;
       keep.reserve(list.size());
       for (ImmaturePoint& p : list) {
-        const TraceResult r = traceImmaturePoint(p, camera, T_frame_host, pyramid->level(0),
-                                                 pyramid->gradients(0), transfer, options.epipolar);
+        const TraceResult r = traceImmaturePoint(p, camera, T_frame_host, job.pyramid->level(0),
+                                                 job.pyramid->gradients(0), transfer, options.epipolar);
         if (r.status == TraceStatus::kOutlier || r.status == TraceStatus::kOutOfBounds) continue;
         keep.push_back(p);
       }
       list.swap(keep);
     }
-    record.timing.search_ms = watch.lapMs();
+    job.record->timing.search_ms = watch.lapMs();
+    // A request made against a keyframe that is no longer the newest is stale: a keyframe
+    // has been made since (the real-time mode, while tracking waited for its reference);
+    // DSO likewise maps such frames as ordinary ones.
+    const bool stale = job.reference_id != window->keyframeIds().back();
+    if (job.make_keyframe && !stale) {
+      FrameRecord& record = *job.record;
+      record.is_keyframe = true;  // its own reference from now on; its pose is the window's
+      record.reference_keyframe = record.index;
+      record.T_frame_ref = SE3d();
+      makeKeyframe(record, job.pyramid, job.exposure, job.T_world_frame, job.affine);
+      record.timing.mapping_ms = watch.lapMs();
+    }
+  }
+
+  // In the real-time mode: waits for the mapping thread (before re-initialising, and before
+  // results are read).
+  void drainMapping() {
+    if (worker) worker->drain();
+  }
+
+  // ---- tracking side ---------------------------------------------------------------
+  void trackFrame(FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,
+                  double exposure) {
+    Stopwatch watch;
+    adoptPublishedReference();
+    const TrackingReference& ref = reference;
+    const SE3d T_ref_world = ref.T_world_ref.inverse();
+    const SE3d T_last_ref = (T_ref_world * T_world_last).inverse();
+    const SE3d velocity = T_world_last.inverse() * T_world_prev;  // T_last_prev
+    const TrackingResult tracking =
+        ref.tracker->track(*pyramid, exposure, ref.tracker->makeHypotheses(T_last_ref, velocity),
+                           last_affine, last_rmse);
+    if (!tracking.ok) {
+      drainMapping();
+      loseTracking(record, pyramid, exposure);
+      record.timing.tracking_ms = watch.elapsedMs();
+      return;
+    }
+    const SE3d T_world_frame = ref.T_world_ref * tracking.T_frame_ref.inverse();
+    record.tracked = true;
+    record.reference_keyframe = ref.id;
+    record.T_frame_ref = tracking.T_frame_ref;
+    last_rmse = tracking.rmse;
+    if (!std::isfinite(first_rmse)) first_rmse = tracking.rmse;
 
     const double brightness = exposure * std::exp(tracking.affine.x()) /
-                              (ref.exposure * std::exp(ref.affine[0]));
+                              (ref.exposure * std::exp(ref.affine.x()));
     const KeyframeDecision decision =
         decideKeyframe(tracking, brightness, first_rmse, camera.width(), camera.height(),
                        options.keyframe_decision);
@@ -326,12 +382,26 @@ struct Odometry::Impl {
     ++frames_since_keyframe;
     const bool forced = options.max_keyframe_interval_frames > 0 &&
                         frames_since_keyframe >= options.max_keyframe_interval_frames;
-    record.timing.tracking_ms += watch.lapMs();
-    if (decision.make_keyframe || forced) {
-      makeKeyframe(record, pyramid, exposure, T_world_frame, tracking.affine);
-      record.timing.mapping_ms = watch.lapMs();
+    const MappingJob job{&record, pyramid,         exposure, T_world_frame,
+                         tracking.affine, decision.make_keyframe || forced, ref.id};
+    if (job.make_keyframe) frames_since_keyframe = 0;
+    record.timing.tracking_ms = watch.lapMs();
+    if (worker) {
+      // A lagging mapper skips the search in non-keyframes (DSO does the same); keyframes
+      // are always made.
+      if (job.make_keyframe || worker->pending() < 2) worker->push([this, job] { map(job); });
+      return;
+    }
+    map(job);
+    if (record.is_keyframe) {  // continue from the window's estimate of the new keyframe
+      const WindowKeyframe& kf = window->keyframe(record.index);
+      last_affine = Eigen::Vector2d(kf.affine[0], kf.affine[1]);
+      T_world_last = kf.T_world_cam();
     }
   }
+
+  // Declared last: destroyed first, so queued jobs finish while everything they use exists.
+  std::unique_ptr<MappingWorker> worker;
 };
 
 Odometry::Odometry(const Camera& camera, OdometryOptions options, const Mask& image_mask)
@@ -370,14 +440,21 @@ const FrameRecord& Odometry::addFrame(const ImageF& image, double timestamp, dou
   return current;
 }
 
-const std::vector<FrameRecord>& Odometry::frames() const { return impl_->frames; }
+void Odometry::finish() { impl_->drainMapping(); }
+
+const std::deque<FrameRecord>& Odometry::frames() const {
+  impl_->drainMapping();
+  return impl_->frames;
+}
 
 SE3d Odometry::framePose(const FrameRecord& frame) const {
+  impl_->drainMapping();
   if (!frame.tracked) throw Error("Odometry::framePose: frame " + std::to_string(frame.index) + " has no pose");
   return impl_->keyframePose(frame.reference_keyframe) * frame.T_frame_ref.inverse();
 }
 
 std::vector<KeyframeRecord> Odometry::keyframes() const {
+  impl_->drainMapping();
   std::vector<KeyframeRecord> out;
   for (const auto& [id, kf] : impl_->keyframes) {
     KeyframeRecord r = kf;
@@ -395,11 +472,13 @@ std::vector<OdometryPoint> Odometry::points() const {
 }
 
 void Odometry::forEachPoint(const std::function<void(const OdometryPoint&)>& visit) const {
+  impl_->drainMapping();
   for (const OdometryPoint& p : impl_->points) visit(p);
   if (impl_->window) impl_->visitActivePoints(visit);
 }
 
 size_t Odometry::numPoints() const {
+  impl_->drainMapping();
   size_t n = impl_->points.size();
   if (impl_->window)
     for (const auto& [pid, point] : impl_->window->points()) n += point->inverse_distance > 0.0;
@@ -409,10 +488,14 @@ size_t Odometry::numPoints() const {
 bool Odometry::initialized() const { return impl_->initialized; }
 
 Eigen::VectorXd Odometry::intrinsics() const {
+  impl_->drainMapping();
   return impl_->window ? impl_->window->intrinsics() : impl_->last_intrinsics;
 }
 int Odometry::numSegments() const { return impl_->segment + 1; }
-const std::vector<std::string>& Odometry::log() const { return impl_->log; }
+const std::vector<std::string>& Odometry::log() const {
+  impl_->drainMapping();
+  return impl_->log;
+}
 
 std::string Odometry::initializationStatus() const {
   return impl_->initialized ? std::string() : impl_->initializer->status();

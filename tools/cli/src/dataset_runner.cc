@@ -1,4 +1,6 @@
+#include <chrono>
 #include <omnidso/cameras/rectification.hpp>
+#include <thread>
 #include <omnidso/cli/dataset_runner.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/image_io.hpp>
@@ -43,8 +45,14 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
   const size_t total = options.max_frames > 0 ? std::min(index.frames.size(), options.max_frames)
                                               : index.frames.size();
   Stopwatch wall;
+  const bool paced = options.odometry.realtime && options.playback_speed > 0.0 && total > 0;
+  const auto start = std::chrono::steady_clock::now();
   for (size_t i = 0; i < total; ++i) {
     const DatasetFrame& frame = index.frames[i];
+    if (paced) {  // the camera's pace: frame i is due at (t_i − t_0) / speed after the start
+      const double due_s = (frame.timestamp_s - index.frames[0].timestamp_s) / options.playback_speed;
+      std::this_thread::sleep_until(start + std::chrono::duration<double>(due_s));
+    }
     const RawImage raw = readRawImage(frame.image_path);
     if (raw.pixels.width() != source.width() || raw.pixels.height() != source.height())
       throw Error(frame.image_path + ": image is " + std::to_string(raw.pixels.width()) + "x" +
@@ -58,6 +66,7 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
     run.odometry->addFrame(image, frame.timestamp_s, exposure);
     if (options.progress) options.progress(i + 1, total, *run.odometry);
   }
+  run.odometry->finish();  // the real-time mode's mapping thread catches up
   run.frames_processed = total;
   run.wall_s = wall.elapsedMs() / 1000.0;
   return run;

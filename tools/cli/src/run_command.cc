@@ -38,6 +38,7 @@ struct RunArguments {
   bool json = false;
   std::string config;
   std::vector<std::string> settings;  // NAME=VALUE, applied after --config
+  double playback_speed = 1.0;
 };
 
 void refuseToOverwrite(const std::string& out, bool force) {
@@ -70,6 +71,8 @@ void runOdometry(const RunArguments& args) {
   o.window.differentiation =
       args.residuals == "autodiff" ? DifferentiationMode::kAutodiff : DifferentiationMode::kAnalytic;
   o.tracker.num_threads = args.threads;
+  o.realtime = args.threads > 1;  // mapping in its own thread (not repeatable bit for bit)
+  options.playback_speed = args.playback_speed;
   if (!args.config.empty()) applyOdometryConfigFile(o, args.config);
   for (const std::string& s : args.settings) applyOdometrySettingAssignment(o, s);
   refuseToOverwrite(args.out, args.force);  // after every option has been checked
@@ -124,8 +127,15 @@ void registerRunCommand(CLI::App& app) {
   cmd->add_flag("--no-intrinsics-opt", args->no_intrinsics_opt,
                 "keep the intrinsics fixed in the window optimisation");
   cmd->add_option("--seed", args->seed, "seed of the pixel selection")->capture_default_str();
-  cmd->add_option("--threads", args->threads, "Ceres threads (1 = deterministic)")
+  cmd->add_option("--threads", args->threads,
+                  "1: deterministic single-threaded mode; N > 1: real-time mode (mapping in its "
+                  "own thread, Ceres with N threads)")
       ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  cmd->add_option("--playback-speed", args->playback_speed,
+                  "real-time mode: feed frames at this multiple of their recorded rate "
+                  "(0 = as fast as possible)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--max-frames", args->max_frames, "stop after this many frames (0 = all)")
       ->check(CLI::NonNegativeNumber);

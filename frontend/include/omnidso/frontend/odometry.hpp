@@ -22,6 +22,7 @@
 #include <omnidso/frontend/initializer.hpp>
 #include <omnidso/frontend/keyframe_decision.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
+#include <deque>
 #include <functional>
 #include <string>
 #include <vector>
@@ -42,6 +43,10 @@ struct OdometryOptions {
   double max_activation_interval_px = 8.0;  // immature point converged enough to activate
   double min_activation_quality = 3.0;
   int max_keyframe_interval_frames = 0;      // > 0: force a keyframe after this many frames
+  // Real-time mode: mapping (epipolar search, keyframes, window, marginalisation) in its own
+  // thread while addFrame tracks the next frames; a lagging mapper skips the search in
+  // non-keyframes. Not repeatable bit for bit (it depends on thread timing); off by default.
+  bool realtime = false;
 };
 
 struct FrameTiming {
@@ -89,7 +94,10 @@ class Odometry {
   // exposure: t, any unit consistent over the sequence (1 when unknown).
   const FrameRecord& addFrame(const ImageF& image, double timestamp, double exposure);
 
-  const std::vector<FrameRecord>& frames() const;
+  // In the real-time mode the accessors below first wait for the mapping thread.
+  const std::deque<FrameRecord>& frames() const;
+  // Real-time mode: waits until every frame added so far has been mapped (no-op otherwise).
+  void finish();
   // T_world_cam of a frame through the latest estimate of its reference keyframe.
   SE3d framePose(const FrameRecord& frame) const;
   std::vector<KeyframeRecord> keyframes() const;

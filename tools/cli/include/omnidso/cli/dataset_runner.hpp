@@ -18,6 +18,9 @@ struct DatasetRunOptions {
   std::string camera_model = "native";  // native | pinhole-crop:FOV_DEG
   std::string calib;                    // overrides the dataset's calibration file
   size_t max_frames = 0;                // 0: all
+  // Real-time mode only: frames are fed at their timestamps' pace times this factor, as a
+  // camera would deliver them (0: as fast as they can be read).
+  double playback_speed = 1.0;
   OdometryOptions odometry;
   std::function<void(size_t done, size_t total, const Odometry&)> progress;
 };
