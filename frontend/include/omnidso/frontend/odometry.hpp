@@ -92,6 +92,8 @@ class Odometry {
 
   // image: photometrically corrected intensities (0..255 scale), camera-sized.
   // exposure: t, any unit consistent over the sequence (1 when unknown).
+  // In the real-time mode the record's keyframe flag and timings are final only once the
+  // mapping thread has caught up (finish(), or any accessor below).
   const FrameRecord& addFrame(const ImageF& image, double timestamp, double exposure);
 
   // In the real-time mode the accessors below first wait for the mapping thread.
