@@ -147,7 +147,8 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
     evaluated = !evaluable.empty() &&
                 problem.Evaluate(eval, nullptr, &r_current, nullptr, &jacobian_crs);
   }
-  if (!evaluated) {  // nothing to linearise: the blocks leave without a prior
+  // 5 (first half, also when nothing could be linearised). The problem no longer holds R or M.
+  auto removeFromProblem = [&] {
     for (ceres::ResidualBlockId id : residual_blocks) problem.RemoveResidualBlock(id);
     for (double* b : blocks) {
       problem.RemoveParameterBlock(b);
@@ -155,6 +156,9 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
     }
     local_stats.num_residual_blocks = static_cast<int>(residual_blocks.size());
     local_stats.num_marginalized_blocks = static_cast<int>(blocks.size());
+  };
+  if (!evaluated) {  // nothing to linearise: the blocks leave without a prior
+    removeFromProblem();
     if (stats) *stats = local_stats;
     return nullptr;
   }
@@ -196,15 +200,7 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
   H_star = 0.5 * (H_star + H_star.transpose());
   const Eigen::VectorXd g_star = g.tail(k) - H_km_Hmm_inv * g.head(m);
 
-  // 5 (first half). The problem no longer holds R or M.
-  for (ceres::ResidualBlockId id : residual_blocks) problem.RemoveResidualBlock(id);
-  for (double* b : blocks) {
-    problem.RemoveParameterBlock(b);
-    linearization_points_.erase(b);
-  }
-
-  local_stats.num_residual_blocks = static_cast<int>(residual_blocks.size());
-  local_stats.num_marginalized_blocks = static_cast<int>(blocks.size());
+  removeFromProblem();
   ceres::ResidualBlockId prior_id = nullptr;
   if (k > 0) {
     // 4. Square-root information of H*.
