@@ -16,6 +16,7 @@
 #include <omnidso/cameras/unified.hpp>
 
 #include <Eigen/Core>
+#include <omnidso/cameras/affine_intrinsics.hpp>
 #include <array>
 #include <cstddef>
 #include <utility>
@@ -133,17 +134,9 @@ class DistortedCamera {
     }
     if (!want_jacobian) return true;
     const Mat32 d_b_d_md = d_b_d_m * d_m_d_md;
-    if (d_bearing_d_uv) {
-      d_bearing_d_uv->col(0) = d_b_d_md.col(0) / fx;
-      d_bearing_d_uv->col(1) = d_b_d_md.col(1) / fy;
-    }
+    chainAffineIntrinsics(d_b_d_md, md, fx, fy, d_bearing_d_uv, d_bearing_d_params);
     if (d_bearing_d_params) {
       Mat3N& J = *d_bearing_d_params;
-      // md = (uv − c)/f: ∂md/∂f = −md/f, ∂md/∂c = −1/f.
-      J.col(0) = -d_b_d_md.col(0) * md.x() / fx;
-      J.col(1) = -d_b_d_md.col(1) * md.y() / fy;
-      J.col(2) = -d_b_d_md.col(0) / fx;
-      J.col(3) = -d_b_d_md.col(1) / fy;
       J.template middleCols<kNumExtraParams>(4) = d_b_d_extra;
       // distort(m(k), k) = md fixed: ∂m/∂k = −(∂md/∂m)⁻¹ ∂md/∂k.
       Eigen::Matrix<Scalar, 2, 2> d_md_d_m;

@@ -23,6 +23,7 @@
 // With ξ = 0 the model is UCM in α-form: unifiedFromAlphaForm(fx, fy, cx, cy, α).
 
 #include <Eigen/Core>
+#include <omnidso/cameras/affine_intrinsics.hpp>
 #include <array>
 #include <cmath>
 
@@ -153,16 +154,9 @@ class DoubleSphereCamera {
       d_b_d_m.col(1) = d_b_d_r2 * two_my;
       d_b_d_m(0, 0) += c;
       d_b_d_m(1, 1) += c;
-      if (d_bearing_d_uv) {
-        d_bearing_d_uv->col(0) = d_b_d_m.col(0) / fx;
-        d_bearing_d_uv->col(1) = d_b_d_m.col(1) / fy;
-      }
+      chainAffineIntrinsics(d_b_d_m, Vec2(mx, my), fx, fy, d_bearing_d_uv, d_bearing_d_params);
       if (d_bearing_d_params) {
         Mat3N& J = *d_bearing_d_params;
-        J.col(0) = -d_b_d_m.col(0) * mx / fx;
-        J.col(1) = -d_b_d_m.col(1) * my / fy;
-        J.col(2) = -d_b_d_m.col(0) / fx;
-        J.col(3) = -d_b_d_m.col(1) / fy;
         // ∂c/∂ξ = (mz − ξ r²/t)/q2;  ∂bearing/∂ξ = c_ξ (mx, my, mz) − e_z
         const Scalar dc_dxi = (mz - xi * r2 / t) * inv_q2;
         J.col(4) << dc_dxi * mx, dc_dxi * my, dc_dxi * mz - Scalar(1);

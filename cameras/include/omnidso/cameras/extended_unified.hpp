@@ -21,6 +21,7 @@
 // With β = 1 the model is UCM in α-form: unifiedFromAlphaForm(fx, fy, cx, cy, α).
 
 #include <Eigen/Core>
+#include <omnidso/cameras/affine_intrinsics.hpp>
 #include <array>
 #include <cmath>
 
@@ -127,16 +128,9 @@ class ExtendedUnifiedCamera {
       Mat32 d_b_d_m;
       d_b_d_m.col(0) = P.col(0) + P.col(2) * (Scalar(2) * mx * dmz_dr2);
       d_b_d_m.col(1) = P.col(1) + P.col(2) * (Scalar(2) * my * dmz_dr2);
-      if (d_bearing_d_uv) {
-        d_bearing_d_uv->col(0) = d_b_d_m.col(0) / fx;
-        d_bearing_d_uv->col(1) = d_b_d_m.col(1) / fy;
-      }
+      chainAffineIntrinsics(d_b_d_m, Vec2(mx, my), fx, fy, d_bearing_d_uv, d_bearing_d_params);
       if (d_bearing_d_params) {
         Mat3N& J = *d_bearing_d_params;
-        J.col(0) = -d_b_d_m.col(0) * mx / fx;
-        J.col(1) = -d_b_d_m.col(1) * my / fy;
-        J.col(2) = -d_b_d_m.col(0) / fx;
-        J.col(3) = -d_b_d_m.col(1) / fy;
         // ∂s/∂α = −β r²/s,  ∂s/∂β = −(2α−1) r²/(2s)
         const Scalar ds_dalpha = -beta * r2 / s;
         const Scalar ds_dbeta = -two_alpha_m1 * r2 / (Scalar(2) * s);

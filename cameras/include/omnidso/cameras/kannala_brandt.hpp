@@ -21,6 +21,7 @@
 // exactly; keep Jet evaluations off the exact axis.
 
 #include <Eigen/Core>
+#include <omnidso/cameras/affine_intrinsics.hpp>
 #include <array>
 #include <cmath>
 
@@ -133,16 +134,9 @@ class KannalaBrandtCamera {
       Mat32 d_b_d_m;
       d_b_d_m << s + g * mx * mx, g * mx * my, g * mx * my, s + g * my * my,
           -s * inv_Q * mx, -s * inv_Q * my;
-      if (d_bearing_d_uv) {
-        d_bearing_d_uv->col(0) = d_b_d_m.col(0) / fx;
-        d_bearing_d_uv->col(1) = d_b_d_m.col(1) / fy;
-      }
+      chainAffineIntrinsics(d_b_d_m, Vec2(mx, my), fx, fy, d_bearing_d_uv, d_bearing_d_params);
       if (d_bearing_d_params) {
         Mat3N& J = *d_bearing_d_params;
-        J.col(0) = -d_b_d_m.col(0) * mx / fx;
-        J.col(1) = -d_b_d_m.col(1) * my / fy;
-        J.col(2) = -d_b_d_m.col(0) / fx;
-        J.col(3) = -d_b_d_m.col(1) / fy;
         // At fixed θd: ∂θ/∂k_i = −θ^(2i+1)/Q. Then ∂(s m)/∂k_i = m cos θ θ^(2i)/(P Q)·(−1)
         // (s = sin θ/θd, θd = θP) and ∂cos θ/∂k_i = sin θ θ^(2i+1)/Q.
         const Scalar t4 = t2 * t2;

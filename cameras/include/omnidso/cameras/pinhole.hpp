@@ -11,6 +11,7 @@
 // affine step [fx, fy, cx, cy].
 
 #include <Eigen/Core>
+#include <omnidso/cameras/affine_intrinsics.hpp>
 #include <array>
 #include <cmath>
 
@@ -96,17 +97,7 @@ class PinholeCamera {
     const bool want_jacobian = d_bearing_d_uv || d_bearing_d_params;
     Mat32 d_b_d_m;
     unprojectNormalised(m, bearing, want_jacobian ? &d_b_d_m : nullptr);
-    if (d_bearing_d_uv) {
-      d_bearing_d_uv->col(0) = d_b_d_m.col(0) / fx;
-      d_bearing_d_uv->col(1) = d_b_d_m.col(1) / fy;
-    }
-    if (d_bearing_d_params) {
-      // m = (uv − c)/f: ∂m/∂f = −m/f, ∂m/∂c = −1/f.
-      d_bearing_d_params->col(0) = -d_b_d_m.col(0) * m.x() / fx;
-      d_bearing_d_params->col(1) = -d_b_d_m.col(1) * m.y() / fy;
-      d_bearing_d_params->col(2) = -d_b_d_m.col(0) / fx;
-      d_bearing_d_params->col(3) = -d_b_d_m.col(1) / fy;
-    }
+    chainAffineIntrinsics(d_b_d_m, m, fx, fy, d_bearing_d_uv, d_bearing_d_params);
     return true;
   }
 

@@ -22,6 +22,7 @@
 #include <array>
 #include <cmath>
 #include <Eigen/Core>
+#include <omnidso/cameras/affine_intrinsics.hpp>
 
 namespace omnidso {
 
@@ -150,19 +151,8 @@ class UnifiedCamera {
                              d_bearing_d_params ? &d_b_d_xi : nullptr)) {
       return false;
     }
-    if (d_bearing_d_uv) {
-      d_bearing_d_uv->col(0) = d_b_d_m.col(0) / fx;
-      d_bearing_d_uv->col(1) = d_b_d_m.col(1) / fy;
-    }
-    if (d_bearing_d_params) {
-      Mat3N& J = *d_bearing_d_params;
-      // m = (uv − c)/f: ∂m/∂f = −m/f, ∂m/∂c = −1/f (likewise y).
-      J.col(0) = -d_b_d_m.col(0) * m.x() / fx;
-      J.col(1) = -d_b_d_m.col(1) * m.y() / fy;
-      J.col(2) = -d_b_d_m.col(0) / fx;
-      J.col(3) = -d_b_d_m.col(1) / fy;
-      J.col(4) = d_b_d_xi;
-    }
+    chainAffineIntrinsics(d_b_d_m, m, fx, fy, d_bearing_d_uv, d_bearing_d_params);
+    if (d_bearing_d_params) d_bearing_d_params->col(4) = d_b_d_xi;
     return true;
   }
 
