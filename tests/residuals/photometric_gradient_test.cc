@@ -19,15 +19,7 @@ namespace {
 
 constexpr int kN = 8;
 
-// GradientChecker differentiates with Ridders' method. Its default first step (1e-2·|x|)
-// rotates a pose block by tens of degrees and leaves the image; with 1e-6·|x| the largest
-// step moves a target pixel by ≲ 1e-3 px. The bilinear interpolant is smooth only inside a
-// pixel cell, so test points keep every target pixel kCellEdgeMargin = 0.02 px (≫ 1e-3 px)
-// from the cell edges; there Ridders' extrapolation is accurate to ~1e-9 relative, and
-// 1e-5 relative leaves room for the smallest entries.
-constexpr double kGradientCheckPrecision = 1e-5;
-constexpr double kRiddersInitialStep = 1e-6;
-constexpr double kCellEdgeMargin = 0.02;
+// kGradientCheckPrecision, kRiddersInitialStep, kCellEdgeMargin: residual_test_support.hpp.
 constexpr double kMinRadiusFromCentre = 50.0;  // level-0 pixels
 constexpr double kMaxRadiusFromCentre = 100.0;
 // Analytic and autodiff compute the same float-free double expressions in different

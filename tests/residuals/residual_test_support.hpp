@@ -24,6 +24,16 @@
 
 namespace omnidso::test {
 
+// Gradient checks of the hand-derived kernels. GradientChecker differentiates with Ridders'
+// method. Its default first step (1e-2·|x|) rotates a pose block by tens of degrees and leaves
+// the image; with 1e-6·|x| the largest step moves a target pixel by ≲ 1e-3 px. The bilinear
+// interpolant is smooth only inside a pixel cell, so test points keep every target pixel
+// kCellEdgeMargin = 0.02 px (≫ 1e-3 px) from the cell edges; there Ridders' extrapolation is
+// accurate to ~1e-9 relative, and 1e-5 relative leaves room for the smallest entries.
+inline constexpr double kGradientCheckPrecision = 1e-5;
+inline constexpr double kRiddersInitialStep = 1e-6;
+inline constexpr double kCellEdgeMargin = 0.02;
+
 // Test images are 320 × 240; every model's intrinsics put 90° off-axis about 95 px from the
 // centre (except pinhole, ~80° field of view), so wide rays stay inside the image.
 inline constexpr int kTestWidth = 320;

@@ -21,12 +21,7 @@ namespace omnidso::test {
 namespace {
 
 constexpr int kN = 8;
-// Same reasoning as photometric_gradient_test.cc: Ridders from 1e-6·|x|, target pixels kept
-// 0.02 px from bilinear cell edges, relative precision 1e-5; analytic vs autodiff to
-// rounding.
-constexpr double kGradientCheckPrecision = 1e-5;
-constexpr double kRiddersInitialStep = 1e-6;
-constexpr double kCellEdgeMargin = 0.02;
+// Gradient-check settings: residual_test_support.hpp. Analytic vs autodiff to rounding:
 constexpr double kResidualAgreement = 1e-9;
 constexpr double kJacobianAgreement = 1e-7;
 
