@@ -44,6 +44,17 @@ class LinearCost : public ceres::CostFunction {
   Eigen::VectorXd b_;
 };
 
+// The Jacobian of the problem's residuals (per `eval`), dense.
+Eigen::MatrixXd denseJacobian(ceres::Problem& problem,
+                              const ceres::Problem::EvaluateOptions& eval) {
+  ceres::CRSMatrix crs;
+  EXPECT_TRUE(problem.Evaluate(eval, nullptr, nullptr, nullptr, &crs));
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int row = 0; row < crs.num_rows; ++row)
+    for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) J(row, crs.cols[k]) = crs.values[k];
+  return J;
+}
+
 struct ChainProblem {
   // Blocks: x0 (3), x1 (2), x2 (2), x3 (1); residuals on {x0}, {x0,x1}, {x1,x2}, {x0,x2},
   // {x2,x3}, {x3}: a small graph where x0 has a Markov blanket {x1, x2}.
@@ -219,11 +230,7 @@ TEST(Marginalization, PriorInformationEqualsInverseMarginalCovariance) {
   marginalizer.marginalize(reduced, {x[0].data()});
   ceres::Problem::EvaluateOptions eval;
   eval.parameter_blocks = {x[1].data(), x[2].data(), x[3].data()};
-  ceres::CRSMatrix crs;
-  reduced.Evaluate(eval, nullptr, nullptr, nullptr, &crs);
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-  for (int r = 0; r < crs.num_rows; ++r)
-    for (int i = crs.rows[r]; i < crs.rows[r + 1]; ++i) J(r, crs.cols[i]) = crs.values[i];
+  const Eigen::MatrixXd J = denseJacobian(reduced, eval);
   const Eigen::MatrixXd information = J.transpose() * J;
   const Eigen::MatrixXd expected = cov.inverse();
   EXPECT_LT((information - expected).norm() / expected.norm(), 1e-6);
@@ -308,11 +315,7 @@ TEST(Marginalization, ManifoldBlockPriorMatchesCovarianceAndKeepsTangentJacobian
   ceres::Problem::EvaluateOptions eval;
   eval.residual_blocks = {prior_id};
   eval.parameter_blocks = {q.coeffs().data()};
-  ceres::CRSMatrix crs;
-  reduced.Evaluate(eval, nullptr, nullptr, nullptr, &crs);
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-  for (int r = 0; r < crs.num_rows; ++r)
-    for (int i = crs.rows[r]; i < crs.rows[r + 1]; ++i) J(r, crs.cols[i]) = crs.values[i];
+  const Eigen::MatrixXd J = denseJacobian(reduced, eval);
   EXPECT_LT((J - prior->sqrtInformation()).norm(), 1e-12 * prior->sqrtInformation().norm());
 }
 
@@ -361,11 +364,7 @@ TEST(Marginalization, UnevaluableResidualsAreLeftOutOfThePrior) {
   ceres::Problem::EvaluateOptions eval;
   eval.residual_blocks = {prior};
   eval.parameter_blocks = {&y, &z};
-  ceres::CRSMatrix crs;
-  ASSERT_TRUE(problem.Evaluate(eval, nullptr, nullptr, nullptr, &crs));
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-  for (int row = 0; row < crs.num_rows; ++row)
-    for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) J(row, crs.cols[k]) = crs.values[k];
+  const Eigen::MatrixXd J = denseJacobian(problem, eval);
   const Eigen::MatrixXd information = J.transpose() * J;
   ASSERT_EQ(information.rows(), 2);
   EXPECT_NEAR(information(0, 0), 0.5, 1e-9);
