@@ -7,11 +7,8 @@
 namespace omnidso {
 namespace {
 
-float gradientNorm(const ImageGradients& g, int u, int v) {
-  return std::sqrt(g.dx(u, v) * g.dx(u, v) + g.dy(u, v) * g.dy(u, v));
-}
-
-// ‖∇I‖ of a whole level, computed once per selection (every adaptation round reads it).
+// ‖∇I‖ of a whole level, computed once per selection (the threshold map and every
+// adaptation round read it).
 Image<float> gradientNormImage(const ImageGradients& g) {
   Image<float> out(g.dx.width(), g.dx.height());
   for (size_t i = 0; i < out.size(); ++i)
@@ -45,12 +42,10 @@ struct Candidate {
 
 class Selector {
  public:
-  Selector(const ImagePyramid& pyramid, const Mask& usable, const Image<float>& thresholds,
-           const PixelSelectorOptions& options)
-      : pyramid_(pyramid), usable_(usable), thresholds_(thresholds), options_(options) {
-    for (int level = 0; level < std::min(3, pyramid.numLevels()); ++level)
-      norms_.push_back(gradientNormImage(pyramid.gradients(level)));
-  }
+  // norms: ‖∇I‖ of levels 0, 1, 2 (as many as the pyramid has).
+  Selector(const ImagePyramid& pyramid, const std::vector<Image<float>>& norms,
+           const Mask& usable, const Image<float>& thresholds, const PixelSelectorOptions& options)
+      : pyramid_(pyramid), norms_(norms), usable_(usable), thresholds_(thresholds), options_(options) {}
 
   std::vector<SelectedPixel> run(int d) {
     std::vector<SelectedPixel> out;
@@ -119,9 +114,8 @@ class Selector {
     return p;
   }
 
-  std::vector<Image<float>> norms_;  // ‖∇I‖ of levels 0–2
-
   const ImagePyramid& pyramid_;
+  const std::vector<Image<float>>& norms_;
   const Mask& usable_;
   const Image<float>& thresholds_;
   const PixelSelectorOptions& options_;
@@ -129,9 +123,9 @@ class Selector {
 
 }  // namespace
 
-Image<float> gradientThresholdMap(const ImageGradients& gradients, const Mask& mask,
+Image<float> gradientThresholdMap(const Image<float>& gradient_norm, const Mask& mask,
                                   int block_size, double offset) {
-  const int w = gradients.dx.width(), h = gradients.dx.height();
+  const int w = gradient_norm.width(), h = gradient_norm.height();
   const int bw = (w + block_size - 1) / block_size, bh = (h + block_size - 1) / block_size;
   Image<float> raw(bw, bh, 0.f);
   Image<std::uint8_t> has(bw, bh, 0);
@@ -141,7 +135,7 @@ Image<float> gradientThresholdMap(const ImageGradients& gradients, const Mask& m
       values.clear();
       for (int v = by * block_size; v < std::min((by + 1) * block_size, h); ++v)
         for (int u = bx * block_size; u < std::min((bx + 1) * block_size, w); ++u)
-          if (mask.empty() || mask(u, v)) values.push_back(gradientNorm(gradients, u, v));
+          if (mask.empty() || mask(u, v)) values.push_back(gradient_norm(u, v));
       if (values.empty()) continue;
       std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
       raw(bx, by) = values[values.size() / 2];
@@ -177,9 +171,12 @@ std::vector<SelectedPixel> selectPixels(const ImagePyramid& pyramid, const Mask&
   long valid = 0;
   for (size_t i = 0; i < usable.size(); ++i) valid += usable.data()[i] != 0;
   if (valid == 0) return {};
+  std::vector<Image<float>> norms;
+  for (int level = 0; level < std::min(3, pyramid.numLevels()); ++level)
+    norms.push_back(gradientNormImage(pyramid.gradients(level)));
   const Image<float> thresholds = gradientThresholdMap(
-      pyramid.gradients(0), mask, options.threshold_block_size, options.gradient_threshold_offset);
-  Selector selector(pyramid, usable, thresholds, options);
+      norms[0], mask, options.threshold_block_size, options.gradient_threshold_offset);
+  Selector selector(pyramid, norms, usable, thresholds, options);
   double d = std::max(1.0, std::sqrt(static_cast<double>(valid) / options.desired_points));
   std::vector<SelectedPixel> best = selector.run(static_cast<int>(std::lround(d)));
   for (int round = 0; round < options.max_adaptation_rounds; ++round) {

@@ -41,8 +41,9 @@ struct SelectedPixel {
 std::vector<SelectedPixel> selectPixels(const ImagePyramid& pyramid, const Mask& mask,
                                         const PixelSelectorOptions& options);
 
-// The region-adaptive threshold of step 1, one value per threshold block (row-major).
-Image<float> gradientThresholdMap(const ImageGradients& gradients, const Mask& mask,
+// The region-adaptive threshold of step 1, one value per threshold block (row-major), from
+// the level-0 gradient norm ‖∇I‖.
+Image<float> gradientThresholdMap(const Image<float>& gradient_norm, const Mask& mask,
                                   int block_size, double offset);
 
 }  // namespace omnidso
