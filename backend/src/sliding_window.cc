@@ -9,6 +9,7 @@
 #include <omnidso/core/error.hpp>
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/core/timing.hpp>
+#include <omnidso/residuals/out_of_bounds_penalty.hpp>
 #include <omnidso/residuals/residual_pattern.hpp>
 #include <omnidso/residuals/se3_manifold.hpp>
 
@@ -133,8 +134,10 @@ bool SlidingWindow::addResidual(WindowPoint& point, WindowKeyframe& target, int 
                                  host.affine.data(), target.affine.data(), intrinsics_.data()};
   if (factory_->status(obs, blocks.data()) != PhotometricStatus::kValid) return false;
   point.residuals[target.id] =
-      problem_->AddResidualBlock(factory_->makeCost(options_.differentiation, obs), loss_.get(),
-                                 blocks);
+      problem_->AddResidualBlock(
+          new OutOfBoundsPenalty(factory_->makeCost(options_.differentiation, obs),
+                                 options_.outlier_energy_per_pixel * kWindowPatternSize),
+          loss_.get(), blocks);
   return true;
 }
 
@@ -191,11 +194,14 @@ void SlidingWindow::fixGaugeBeforeFirstSolve() {
 int SlidingWindow::dropInvalidResiduals() {
   int dropped = 0;
   std::vector<int> emptied;
-  std::array<double, kWindowPatternSize> r;
+  std::vector<double*> blocks;
   for (auto& [pid, point] : points_) {
     for (auto it = point->residuals.begin(); it != point->residuals.end();) {
-      double cost;
-      if (problem_->EvaluateResidualBlock(it->second, false, &cost, r.data(), nullptr)) {
+      problem_->GetParameterBlocksForResidualBlock(it->second, &blocks);
+      // Every photometric block of the window is an OutOfBoundsPenalty (addResidual).
+      const auto* cost =
+          static_cast<const OutOfBoundsPenalty*>(problem_->GetCostFunctionForResidualBlock(it->second));
+      if (cost->isEvaluable(blocks.data())) {
         ++it;
         continue;
       }
@@ -210,9 +216,8 @@ int SlidingWindow::dropInvalidResiduals() {
 }
 
 WindowSolveSummary SlidingWindow::optimize() {
-  // Ceres cannot start from a point where a residual cannot be evaluated: residuals whose
-  // projection has left the image (or the model's domain) since they were made are dropped,
-  // as DSO drops out-of-bounds residuals.
+  // Residuals whose projection has left the image (or the model's domain) since they were
+  // made would only carry the constant penalty: dropped, as DSO drops out-of-bounds residuals.
   dropInvalidResiduals();
   fixGaugeBeforeFirstSolve();
   return solve();
@@ -241,6 +246,7 @@ WindowSolveSummary SlidingWindow::optimizeCoarseToFine(int num_levels) {
     const WindowSolveSummary s = solve();
     if (level == coarsest) total.initial_cost = s.initial_cost;
     total.iterations += s.iterations;
+    total.successful_iterations += s.successful_iterations;
     total.solve_ms += s.solve_ms;
     total.evaluation_ms += s.evaluation_ms;
     total.linear_solver_ms += s.linear_solver_ms;
@@ -291,6 +297,7 @@ WindowSolveSummary SlidingWindow::solve() {
   ceres::Solve(solver, problem_.get(), &summary);
   out.solve_ms = watch.elapsedMs();
   out.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  out.successful_iterations = summary.num_successful_steps;
   out.initial_cost = summary.initial_cost;
   out.final_cost = summary.final_cost;
   out.usable = summary.IsSolutionUsable();
@@ -329,12 +336,12 @@ std::vector<double> SlidingWindow::residualEnergies(const std::vector<ceres::Res
 }
 
 int SlidingWindow::removeOutliers() {
+  int removed = dropInvalidResiduals();
   const double threshold = options_.outlier_energy_per_pixel * kWindowPatternSize;
   std::vector<ceres::ResidualBlockId> blocks;
   for (const auto& [pid, point] : points_)
     for (const auto& [target, id] : point->residuals) blocks.push_back(id);
   const std::vector<double> energy = residualEnergies(blocks);
-  int removed = 0;
   size_t b = 0;
   std::vector<int> weak_points;
   for (auto& [pid, point] : points_) {

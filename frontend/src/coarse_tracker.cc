@@ -6,6 +6,7 @@
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/frontend/coarse_tracker.hpp>
 #include <omnidso/frontend/model_dispatch.hpp>
+#include <omnidso/residuals/out_of_bounds_penalty.hpp>
 #include <omnidso/residuals/se3_manifold.hpp>
 #include <omnidso/residuals/tracking_residual.hpp>
 
@@ -36,12 +37,14 @@ struct CoarseTracker::Impl {
     typename M<double>::VecN params = model.params();
     scaleIntrinsicsToLevel(params, level);
     const M<double> level_model(params);
-    std::vector<std::unique_ptr<ceres::CostFunction>> costs;
+    std::vector<std::unique_ptr<OutOfBoundsPenalty>> costs;
     costs.reserve(observations[level].size());
     for (TrackingObservation<1> obs : observations[level]) {
       obs.target_image = &frame.level(level);
       obs.target_exposure = frame_exposure;
-      costs.emplace_back(makeTrackingCost<M, 1>(DifferentiationMode::kAnalytic, level_model, obs));
+      costs.emplace_back(std::make_unique<OutOfBoundsPenalty>(
+          makeTrackingCost<M, 1>(DifferentiationMode::kAnalytic, level_model, obs),
+          kDsoOutlierEnergyPerPixel));
     }
     if (optimise && !costs.empty()) {
       ceres::Problem::Options po;
@@ -56,7 +59,7 @@ struct CoarseTracker::Impl {
       double r[2];  // one residual; sized so that no cost function type can overrun it
       int added = 0;
       for (auto& cost : costs) {
-        if (!cost->Evaluate(params_ptr, r, nullptr)) continue;  // starts invalid: left out
+        if (!cost->inner().Evaluate(params_ptr, r, nullptr)) continue;  // starts invalid: left out
         problem.AddResidualBlock(cost.get(), &loss, pose, frame_affine);
         ++added;
       }
@@ -82,7 +85,7 @@ struct CoarseTracker::Impl {
     int valid = 0;
     for (auto& cost : costs) {
       double residual[2];  // see above
-      if (!cost->Evaluate(params_ptr, residual, nullptr)) continue;
+      if (!cost->inner().Evaluate(params_ptr, residual, nullptr)) continue;
       const double r = residual[0];
       // Huber-clamped so that a few outliers do not dominate the error (DSO does the same).
       const double a = std::abs(r);

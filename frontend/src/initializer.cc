@@ -7,6 +7,7 @@
 #include <omnidso/core/error.hpp>
 #include <omnidso/frontend/initializer.hpp>
 #include <omnidso/residuals/residual_pattern.hpp>
+#include <omnidso/residuals/out_of_bounds_penalty.hpp>
 #include <omnidso/residuals/se3_manifold.hpp>
 #include <sstream>
 
@@ -102,9 +103,11 @@ struct Initializer::Impl {
       double* params[] = {host_pose.data(), pose.data(), &inverse_distances[i],
                           host_affine.data(), affine.data(), intrinsics.data()};
       if (factory->status(obs, params) != PhotometricStatus::kValid) continue;
-      blocks.emplace_back(i, problem.AddResidualBlock(
-                                 factory->makeCost(DifferentiationMode::kAnalytic, obs), loss.get(),
-                                 std::vector<double*>(params, params + 6)));
+      blocks.emplace_back(
+          i, problem.AddResidualBlock(
+                 new OutOfBoundsPenalty(factory->makeCost(DifferentiationMode::kAnalytic, obs),
+                                        kDsoOutlierEnergyPerPixel * kWindowPatternSize),
+                 loss.get(), std::vector<double*>(params, params + 6)));
       problem.AddResidualBlock(
           new InverseDistanceRegularizer(std::sqrt(lambda), mean_d), nullptr,
           &inverse_distances[i]);
@@ -127,14 +130,17 @@ struct Initializer::Impl {
     double sum = 0.0;
     int n = 0;
     valid_points->assign(pixels.size(), false);
-    std::array<double, kWindowPatternSize> r;
+    Eigen::Matrix<double, kWindowPatternSize, 1> r;
     for (const auto& [i, id] : blocks) {
-      double cost;
-      if (inverse_distances[i] < 0.0 ||
-          !problem.EvaluateResidualBlock(id, false, &cost, r.data(), nullptr))
+      // Validity of the wrapped residual: an out-of-bounds one only carries the penalty.
+      const auto* cost =
+          static_cast<const OutOfBoundsPenalty*>(problem.GetCostFunctionForResidualBlock(id));
+      double* params[] = {host_pose.data(), pose.data(), &inverse_distances[i],
+                          host_affine.data(), affine.data(), intrinsics.data()};
+      if (inverse_distances[i] < 0.0 || !cost->inner().Evaluate(params, r.data(), nullptr))
         continue;
       (*valid_points)[i] = true;
-      sum += 2.0 * cost;
+      sum += r.squaredNorm();
       n += kWindowPatternSize;
     }
     return n ? std::sqrt(sum / n) : std::numeric_limits<double>::infinity();

@@ -170,7 +170,7 @@ Errors perturbAndRecover() {
   const WindowSolveSummary summary = window->optimizeCoarseToFine(2);
   EXPECT_TRUE(summary.usable) << summary.message;
   const Errors e = compare(*window, ws, true_d);
-  std::cout << "after " << summary.iterations << " iterations (" << summary.linear_solver
+  std::cout << "after " << summary.iterations << " iterations (" << summary.successful_iterations << " successful, " << summary.linear_solver
             << "): max translation " << e.max_translation_m << " m, max rotation "
             << e.max_rotation_deg << " deg, median inverse distance " << e.median_inverse_distance_rel
             << "\n";

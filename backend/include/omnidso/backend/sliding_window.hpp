@@ -20,6 +20,10 @@
 // Marginalisation treats constant blocks as known, so the priors built while the anchors are
 // constant carry the gauge: once the anchor keyframe has left, "the prior fixes it".
 //
+// Out of bounds: every residual is wrapped in OutOfBoundsPenalty, so that a step moving some
+// pattern out of the image costs the outlier energy instead of making Ceres reject the step;
+// such residuals are dropped before and after each solve (DSO's OOB state).
+//
 // Outliers: after a solve, a residual whose energy (without the robust loss) exceeds
 // outlier_energy_per_pixel × pattern size is removed (DSO's 12² per pixel); a point left
 // with fewer than min_residuals_per_point residuals is dropped.
@@ -62,7 +66,7 @@ struct WindowOptions {
   int num_threads = 1;
   // Reduced camera systems up to this size use DENSE_SCHUR, larger ones SPARSE_SCHUR.
   int dense_schur_max_size = 400;
-  double outlier_energy_per_pixel = 12.0 * 12.0;
+  double outlier_energy_per_pixel = kDsoOutlierEnergyPerPixel;
   int min_residuals_per_point = 1;
   double huber_threshold = kDsoHuberThreshold;
   // affine_prior.hpp: every keyframe's [a, b] tied to 0 (calibrated photometry, as DSO);
@@ -103,6 +107,8 @@ struct MarginalizedPoint {
 
 struct WindowSolveSummary {
   int iterations = 0;
+  // Iterations whose step Ceres accepted (the others only shrank the trust region).
+  int successful_iterations = 0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
   double solve_ms = 0.0;

@@ -38,6 +38,9 @@ namespace omnidso {
 // pixel (DSO's setting_outlierTHSumComponent = 50²), and its Huber threshold of 9.
 inline constexpr double kDsoGradientWeightC = 50.0;
 inline constexpr double kDsoHuberThreshold = 9.0;
+// DSO's outlier energy per pattern pixel (12²): a residual above it is an outlier, and an
+// out-of-bounds residual costs exactly this much (out_of_bounds_penalty.hpp).
+inline constexpr double kDsoOutlierEnergyPerPixel = 12.0 * 12.0;
 
 enum class DifferentiationMode { kAutodiff, kAnalytic };
 
