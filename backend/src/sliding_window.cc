@@ -191,28 +191,43 @@ void SlidingWindow::fixGaugeBeforeFirstSolve() {
   problem_->SetParameterBlockConstant(&mutablePoint(best->id).inverse_distance);
 }
 
-int SlidingWindow::dropInvalidResiduals() {
-  int dropped = 0;
-  std::vector<int> emptied;
+double SlidingWindow::rawEnergy(ceres::ResidualBlockId id) const {
   std::vector<double*> blocks;
+  problem_->GetParameterBlocksForResidualBlock(id, &blocks);
+  // Every photometric block of the window is an OutOfBoundsPenalty (addResidual); its inner
+  // residual says whether the projection is still valid.
+  const auto& cost =
+      static_cast<const OutOfBoundsPenalty&>(*problem_->GetCostFunctionForResidualBlock(id));
+  std::array<double, kWindowPatternSize> r;
+  if (!cost.inner().Evaluate(blocks.data(), r.data(), nullptr))
+    return std::numeric_limits<double>::infinity();
+  double energy = 0.0;
+  for (double ri : r) energy += ri * ri;
+  return energy;
+}
+
+int SlidingWindow::removeResiduals(double max_energy, int min_residuals_per_point) {
+  int removed = 0;
+  std::vector<int> weak_points;
   for (auto& [pid, point] : points_) {
     for (auto it = point->residuals.begin(); it != point->residuals.end();) {
-      problem_->GetParameterBlocksForResidualBlock(it->second, &blocks);
-      // Every photometric block of the window is an OutOfBoundsPenalty (addResidual).
-      const auto* cost =
-          static_cast<const OutOfBoundsPenalty*>(problem_->GetCostFunctionForResidualBlock(it->second));
-      if (cost->isEvaluable(blocks.data())) {
+      if (rawEnergy(it->second) <= max_energy) {
         ++it;
         continue;
       }
       problem_->RemoveResidualBlock(it->second);
       it = point->residuals.erase(it);
-      ++dropped;
+      ++removed;
     }
-    if (point->residuals.empty()) emptied.push_back(pid);
+    if (static_cast<int>(point->residuals.size()) < min_residuals_per_point)
+      weak_points.push_back(pid);
   }
-  for (int pid : emptied) removePoint(pid, false);
-  return dropped;
+  for (int pid : weak_points) removePoint(pid, false);
+  return removed;
+}
+
+int SlidingWindow::dropInvalidResiduals() {
+  return removeResiduals(std::numeric_limits<double>::max(), 1);
 }
 
 WindowSolveSummary SlidingWindow::optimize() {
@@ -309,56 +324,9 @@ WindowSolveSummary SlidingWindow::solve() {
   return out;
 }
 
-// Raw energy ‖r‖² of every block: one Problem::Evaluate for all (fast); if some block cannot
-// be evaluated (its point left the image), block by block, the failed ones as infinite.
-std::vector<double> SlidingWindow::residualEnergies(const std::vector<ceres::ResidualBlockId>& blocks) const {
-  std::vector<double> energy(blocks.size(), std::numeric_limits<double>::infinity());
-  ceres::Problem::EvaluateOptions eval;
-  eval.residual_blocks = blocks;
-  eval.apply_loss_function = false;
-  eval.num_threads = options_.num_threads;
-  std::vector<double> r;
-  if (problem_->Evaluate(eval, nullptr, &r, nullptr, nullptr)) {
-    for (size_t b = 0; b < blocks.size(); ++b) {
-      energy[b] = 0.0;
-      for (int i = 0; i < kWindowPatternSize; ++i)
-        energy[b] += r[b * kWindowPatternSize + i] * r[b * kWindowPatternSize + i];
-    }
-    return energy;
-  }
-  std::array<double, kWindowPatternSize> rb;
-  for (size_t b = 0; b < blocks.size(); ++b) {
-    double cost = 0.0;  // ½‖r‖²
-    if (problem_->EvaluateResidualBlock(blocks[b], false, &cost, rb.data(), nullptr))
-      energy[b] = 2.0 * cost;
-  }
-  return energy;
-}
-
 int SlidingWindow::removeOutliers() {
-  int removed = dropInvalidResiduals();
-  const double threshold = options_.outlier_energy_per_pixel * kWindowPatternSize;
-  std::vector<ceres::ResidualBlockId> blocks;
-  for (const auto& [pid, point] : points_)
-    for (const auto& [target, id] : point->residuals) blocks.push_back(id);
-  const std::vector<double> energy = residualEnergies(blocks);
-  size_t b = 0;
-  std::vector<int> weak_points;
-  for (auto& [pid, point] : points_) {
-    for (auto it = point->residuals.begin(); it != point->residuals.end(); ++b) {
-      if (!(energy[b] <= threshold)) {
-        problem_->RemoveResidualBlock(it->second);
-        it = point->residuals.erase(it);
-        ++removed;
-      } else {
-        ++it;
-      }
-    }
-    if (static_cast<int>(point->residuals.size()) < options_.min_residuals_per_point)
-      weak_points.push_back(pid);
-  }
-  for (int pid : weak_points) removePoint(pid, false);
-  return removed;
+  return removeResiduals(options_.outlier_energy_per_pixel * kWindowPatternSize,
+                         options_.min_residuals_per_point);
 }
 
 std::vector<MarginalizedPoint> SlidingWindow::takeMarginalizedPoints() {
