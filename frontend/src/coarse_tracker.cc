@@ -73,6 +73,7 @@ struct CoarseTracker::Impl {
         so.max_num_iterations = options.max_iterations[std::min<size_t>(
             level, options.max_iterations.size() - 1)];
         so.num_threads = options.num_threads;
+        so.function_tolerance = options.function_tolerance;
         so.logging_type = ceres::SILENT;
         ceres::Solver::Summary summary;
         ceres::Solve(so, &problem, &summary);

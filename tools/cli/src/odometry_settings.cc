@@ -37,6 +37,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"window.affine_prior_weight_b", &o.window.affine_prior_weight_b},
       {"window.gradient_weight_c", &o.window.gradient_weight_c},
       {"tracker.huber_threshold", &o.tracker.huber_threshold},
+      {"tracker.function_tolerance", &o.tracker.function_tolerance},
       {"tracker.early_reject_factor", &o.tracker.early_reject_factor},
       {"tracker.good_enough_factor", &o.tracker.good_enough_factor},
       {"tracker.min_valid_fraction", &o.tracker.min_valid_fraction},

@@ -33,6 +33,11 @@ struct TrackingReferencePoint {
 struct CoarseTrackerOptions {
   int num_levels = 5;
   std::vector<int> max_iterations = {6, 8, 10, 12, 15};  // per level, finest first
+  // Ceres's function_tolerance: a level stops once an iteration lowers its cost by less than
+  // this fraction (DSO stops once its increment is small). 1e-3 against Ceres's 1e-6: the
+  // same keyframe ATE on four rendered sequences, tracking 35–50 % faster
+  // (docs/performance.md).
+  double function_tolerance = 1e-3;
   double huber_threshold = 9.0;
   double early_reject_factor = 1.5;
   double good_enough_factor = 1.5;  // DSO's re-track threshold
