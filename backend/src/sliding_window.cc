@@ -191,27 +191,13 @@ void SlidingWindow::fixGaugeBeforeFirstSolve() {
   problem_->SetParameterBlockConstant(&mutablePoint(best->id).inverse_distance);
 }
 
-double SlidingWindow::rawEnergy(ceres::ResidualBlockId id) const {
-  std::vector<double*> blocks;
-  problem_->GetParameterBlocksForResidualBlock(id, &blocks);
-  // Every photometric block of the window is an OutOfBoundsPenalty (addResidual); its inner
-  // residual says whether the projection is still valid.
-  const auto& cost =
-      static_cast<const OutOfBoundsPenalty&>(*problem_->GetCostFunctionForResidualBlock(id));
-  std::array<double, kWindowPatternSize> r;
-  if (!cost.inner().Evaluate(blocks.data(), r.data(), nullptr))
-    return std::numeric_limits<double>::infinity();
-  double energy = 0.0;
-  for (double ri : r) energy += ri * ri;
-  return energy;
-}
-
 int SlidingWindow::removeResiduals(double max_energy, int min_residuals_per_point) {
   int removed = 0;
   std::vector<int> weak_points;
   for (auto& [pid, point] : points_) {
     for (auto it = point->residuals.begin(); it != point->residuals.end();) {
-      if (rawEnergy(it->second) <= max_energy) {
+      // Every photometric block of the window is an OutOfBoundsPenalty (addResidual).
+      if (rawEnergy(*problem_, it->second) <= max_energy) {
         ++it;
         continue;
       }

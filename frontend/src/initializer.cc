@@ -130,17 +130,13 @@ struct Initializer::Impl {
     double sum = 0.0;
     int n = 0;
     valid_points->assign(pixels.size(), false);
-    Eigen::Matrix<double, kWindowPatternSize, 1> r;
     for (const auto& [i, id] : blocks) {
-      // Validity of the wrapped residual: an out-of-bounds one only carries the penalty.
-      const auto* cost =
-          static_cast<const OutOfBoundsPenalty*>(problem.GetCostFunctionForResidualBlock(id));
-      double* params[] = {host_pose.data(), pose.data(), &inverse_distances[i],
-                          host_affine.data(), affine.data(), intrinsics.data()};
-      if (inverse_distances[i] < 0.0 || !cost->inner().Evaluate(params, r.data(), nullptr))
-        continue;
+      // The wrapped residual's energy; infinite where it is out of bounds or its inverse
+      // distance went negative (it only carried the penalty then).
+      const double energy = rawEnergy(problem, id);
+      if (!std::isfinite(energy)) continue;
       (*valid_points)[i] = true;
-      sum += r.squaredNorm();
+      sum += energy;
       n += kWindowPatternSize;
     }
     return n ? std::sqrt(sum / n) : std::numeric_limits<double>::infinity();

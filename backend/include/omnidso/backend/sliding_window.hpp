@@ -179,10 +179,9 @@ class SlidingWindow {
   std::optional<WindowObservation> observation(const WindowPoint& point,
                                                const WindowKeyframe& target, int level) const;
   void rebuildResiduals(int level, const std::map<int, std::vector<int>>& targets_by_point);
-  // ‖r‖² of a photometric residual without the robust loss; +inf where it cannot be evaluated.
-  double rawEnergy(ceres::ResidualBlockId id) const;
-  // Removes residuals whose raw energy exceeds max_energy (all invalid ones), then the points
-  // left with fewer than min_residuals_per_point. Returns the number of residuals removed.
+  // Removes residuals whose raw energy (out_of_bounds_penalty.hpp) exceeds max_energy (all
+  // invalid ones: theirs is infinite), then the points left with fewer than
+  // min_residuals_per_point. Returns the number of residuals removed.
   int removeResiduals(double max_energy, int min_residuals_per_point);
   WindowSolveSummary solve();
   void removePoint(int id, bool marginalize);

@@ -16,9 +16,12 @@
 // reduction test handles like any other model mismatch.
 
 #include <ceres/cost_function.h>
+#include <ceres/problem.h>
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -48,20 +51,33 @@ class OutOfBoundsPenalty final : public ceres::CostFunction {
 
   const ceres::CostFunction& inner() const { return *inner_; }
 
-  // Whether the wrapped residual itself can be evaluated at `parameters`.
-  bool isEvaluable(double const* const* parameters) const {
+  // ‖r‖² of the wrapped residual at `parameters` (no robust loss); +∞ where it cannot be
+  // evaluated, so that any energy bound removes it.
+  double rawEnergy(double const* const* parameters) const {
     constexpr int kStackResiduals = 64;  // photometric blocks have 8; no allocation for them
-    if (num_residuals() <= kStackResiduals) {
-      double r[kStackResiduals];
-      return inner_->Evaluate(parameters, r, nullptr);
+    std::vector<double> heap;
+    double stack[kStackResiduals];
+    double* r = stack;
+    if (num_residuals() > kStackResiduals) {
+      heap.resize(static_cast<size_t>(num_residuals()));
+      r = heap.data();
     }
-    std::vector<double> r(static_cast<size_t>(num_residuals()));
-    return inner_->Evaluate(parameters, r.data(), nullptr);
+    if (!inner_->Evaluate(parameters, r, nullptr)) return std::numeric_limits<double>::infinity();
+    return Eigen::Map<const Eigen::VectorXd>(r, num_residuals()).squaredNorm();
   }
 
  private:
   std::unique_ptr<ceres::CostFunction> inner_;
   double penalty_;
 };
+
+// rawEnergy of residual block `id` at the problem's current parameter values; the block's
+// cost function must be an OutOfBoundsPenalty.
+inline double rawEnergy(const ceres::Problem& problem, ceres::ResidualBlockId id) {
+  std::vector<double*> blocks;
+  problem.GetParameterBlocksForResidualBlock(id, &blocks);
+  return static_cast<const OutOfBoundsPenalty&>(*problem.GetCostFunctionForResidualBlock(id))
+      .rawEnergy(blocks.data());
+}
 
 }  // namespace omnidso
