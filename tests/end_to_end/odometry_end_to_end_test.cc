@@ -114,7 +114,7 @@ TEST(OdometryEndToEnd, Room185RealTimeModeTracksTheWholeSequence) {
 // A real recorded motion (TUM VI room1's motion capture: hand-held, rotation-heavy, standing
 // nearly still for the first six seconds) through another calibration (Double Sphere, 195°,
 // 400×400) and another room: the odometry waits for parallax, then keeps the keyframe ATE
-// within the 1 % (≈ 0.05–0.15 % on such renders today).
+// within the 1 %.
 TEST(OdometryEndToEnd, RealTrajectoryThroughDoubleSphereCameraIsAccurate) {
   const auto trajectories = test::sharedDataDir("trajectories");
   if (!trajectories) GTEST_SKIP() << test::missingDataMessage("trajectories");
