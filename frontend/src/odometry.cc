@@ -198,13 +198,17 @@ struct Odometry::Impl {
     window->addKeyframe(record.index, record.timestamp, exposure, T_world_frame, affine, pyramid);
     keyframes[record.index] = {record.index, record.timestamp, segment, T_world_frame};
     activatePoints(record.index);
+    Stopwatch stage;
     window->optimize();
+    record.timing.window_ms = stage.lapMs();
     window->removeOutliers();
     refreshKeyframeRecords();
+    stage.restart();
     for (int id : window->keyframesToMarginalize(options.marginalization)) {
       window->marginalizeKeyframe(id);
       immature.erase(id);
     }
+    record.timing.marginalization_ms = stage.lapMs();
     collectMarginalizedPoints();
     selectImmaturePoints(record.index, *pyramid);
     setTrackingReference(record.index);

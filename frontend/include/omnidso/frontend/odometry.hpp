@@ -53,7 +53,12 @@ struct FrameTiming {
   double tracking_ms = 0.0;  // direct image alignment and the keyframe decision
   double search_ms = 0.0;    // epipolar-curve search of the immature points (DSO does it in
                              // its mapping thread; here it runs after tracking)
-  double mapping_ms = 0.0;   // window optimisation + marginalisation (keyframes only)
+  // Keyframes only: everything done for the keyframe (activation, window, outliers,
+  // marginalisation, new immature points, new tracking reference); of it, the window
+  // optimisation and the marginalisation on their own.
+  double mapping_ms = 0.0;
+  double window_ms = 0.0;
+  double marginalization_ms = 0.0;
 };
 
 struct FrameRecord {

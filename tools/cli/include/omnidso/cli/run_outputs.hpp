@@ -4,7 +4,8 @@
 //                              timestamps (frames: every tracked frame, through the final
 //                              estimate of its reference keyframe)
 //   points.ply                 ASCII PLY: x y z intensity segment (marginalised + active)
-//   timing.csv                 frame,timestamp,tracked,keyframe,segment,tracking_ms,mapping_ms
+//   timing.csv                 frame,timestamp,tracked,keyframe,segment,tracking_ms,
+//                              search_ms,mapping_ms,window_ms,marginalization_ms
 //   summary.json               settings, counts, timing statistics, segments and events,
 //                              and — with ground truth — ATE after Sim(3) alignment per segment
 // Trajectory segments (after a tracking loss) have separate gauges; each is evaluated on its
