@@ -130,10 +130,9 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
   eval.parameter_blocks = ordered;
   eval.residual_blocks = residual_blocks;
   std::vector<double> r_current;
-  ceres::CRSMatrix jacobian_crs;
   // (An empty residual list means "all residuals" to Problem::Evaluate: never pass one.)
   bool evaluated = !residual_blocks.empty() &&
-                   problem.Evaluate(eval, nullptr, &r_current, nullptr, &jacobian_crs);
+                   problem.Evaluate(eval, nullptr, &r_current, nullptr, nullptr);
   if (!evaluated && !residual_blocks.empty()) {
     std::vector<ceres::ResidualBlockId> evaluable;
     for (ceres::ResidualBlockId id : residual_blocks) {
@@ -145,7 +144,7 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
     eval.residual_blocks = evaluable;
     r_current.clear();
     evaluated = !evaluable.empty() &&
-                problem.Evaluate(eval, nullptr, &r_current, nullptr, &jacobian_crs);
+                problem.Evaluate(eval, nullptr, &r_current, nullptr, nullptr);
   }
   // 5 (first half, also when nothing could be linearised). The problem no longer holds R or M.
   auto removeFromProblem = [&] {
@@ -162,14 +161,20 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
     if (stats) *stats = local_stats;
     return nullptr;
   }
-  const SparseRowMajor J_current = toSparse(jacobian_crs);
-
+  // The Jacobian at the first-estimate point; where some residual cannot be evaluated there,
+  // the one at the current estimate (which evaluates: r did).
+  ceres::CRSMatrix jacobian_crs;
   for (size_t i = 0; i < ordered.size(); ++i)
     Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = first_estimate[i];
   const bool fej_ok = problem.Evaluate(eval, nullptr, nullptr, nullptr, &jacobian_crs);
   for (size_t i = 0; i < ordered.size(); ++i)
     Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = current[i];
-  const SparseRowMajor J = fej_ok ? toSparse(jacobian_crs) : J_current;
+  if (!fej_ok && !problem.Evaluate(eval, nullptr, nullptr, nullptr, &jacobian_crs)) {
+    removeFromProblem();  // r evaluated but J did not: nothing consistent to keep
+    if (stats) *stats = local_stats;
+    return nullptr;
+  }
+  const SparseRowMajor J = toSparse(jacobian_crs);
   local_stats.used_first_estimate_jacobians = fej_ok;
 
   std::vector<PriorBlock> prior_blocks(ordered.size());

@@ -371,5 +371,49 @@ TEST(Marginalization, UnevaluableResidualsAreLeftOutOfThePrior) {
   EXPECT_NEAR(information(1, 1), 0.0, 1e-12);
 }
 
+// r = y² + z − 10, defined only for y ≥ 3 (as a photometric residual whose point would leave
+// the target image at an older estimate of its pose).
+class SquareCostValidAboveThree : public ceres::SizedCostFunction<1, 1, 1> {
+ public:
+  bool Evaluate(double const* const* p, double* r, double** jacobians) const override {
+    const double y = p[0][0], z = p[1][0];
+    if (y < 3.0) return false;
+    r[0] = y * y + z - 10.0;
+    if (jacobians && jacobians[0]) jacobians[0][0] = 2.0 * y;
+    if (jacobians && jacobians[1]) jacobians[1][0] = 1.0;
+    return true;
+  }
+};
+
+// Where a residual evaluates at the current estimate but not at a kept block's first-estimate
+// point, the prior takes the Jacobian at the current estimate.
+TEST(Marginalization, FallsBackToCurrentJacobiansWhereFirstEstimateCannotBeEvaluated) {
+  ceres::Problem problem;
+  double x = 1.0, y = 2.0, z = 0.5;
+  problem.AddResidualBlock(new LinearCost(Eigen::MatrixXd::Ones(1, 2), 3.0 * Eigen::VectorXd::Ones(1), {1, 1}),
+                           nullptr, &x, &y);
+  problem.AddResidualBlock(new LinearCost(Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Zero(1), {1}),
+                           nullptr, &x);
+  Marginalizer marginalizer;
+  ASSERT_NE(marginalizer.marginalize(problem, {&x}), nullptr);  // y's first estimate: 2
+  y = 4.0;
+  problem.AddResidualBlock(new SquareCostValidAboveThree, nullptr, &y, &z);
+  problem.AddResidualBlock(new LinearCost(Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Zero(1), {1}),
+                           nullptr, &z);
+  MarginalizationStats stats;
+  const ceres::ResidualBlockId prior = marginalizer.marginalize(problem, {&z}, &stats);
+  ASSERT_NE(prior, nullptr);
+  EXPECT_FALSE(stats.used_first_estimate_jacobians);
+  EXPECT_EQ(stats.num_unevaluable_residual_blocks, 0);
+  // Rows [∂r/∂z ∂r/∂y] = [1 2y] = [1 8] and [1 0]: H_zz = 2, H_zy = 8, H_yy = 64, so the
+  // information on y is 64 − 8²/2 = 32 (the first-estimate point y = 2 would give 8).
+  ceres::Problem::EvaluateOptions eval;
+  eval.residual_blocks = {prior};
+  eval.parameter_blocks = {&y};
+  const Eigen::MatrixXd J = denseJacobian(problem, eval);
+  ASSERT_EQ(J.cols(), 1);
+  EXPECT_NEAR((J.transpose() * J)(0, 0), 32.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace omnidso
