@@ -53,14 +53,29 @@ const WindowKeyframe& SlidingWindow::keyframe(int id) const {
   throw Error("SlidingWindow: no keyframe " + std::to_string(id) + " in the window");
 }
 
-WindowKeyframe& SlidingWindow::mutableKeyframe(int id) {
+WindowKeyframe& SlidingWindow::keyframeRef(int id) {
   return const_cast<WindowKeyframe&>(static_cast<const SlidingWindow&>(*this).keyframe(id));
 }
 
-WindowPoint& SlidingWindow::mutablePoint(int id) {
+WindowPoint& SlidingWindow::pointRef(int id) {
   const auto it = points_.find(id);
   if (it == points_.end()) throw Error("SlidingWindow: no point " + std::to_string(id));
   return *it->second;
+}
+
+WindowKeyframe& SlidingWindow::mutableKeyframe(int id) {
+  all_residuals_valid_ = false;  // the caller may move it
+  return keyframeRef(id);
+}
+
+WindowPoint& SlidingWindow::mutablePoint(int id) {
+  all_residuals_valid_ = false;
+  return pointRef(id);
+}
+
+Eigen::VectorXd& SlidingWindow::mutableIntrinsics() {
+  all_residuals_valid_ = false;
+  return intrinsics_;
 }
 
 int SlidingWindow::numResiduals() const {
@@ -126,7 +141,7 @@ std::optional<WindowObservation> SlidingWindow::observation(const WindowPoint& p
 }
 
 bool SlidingWindow::addResidual(WindowPoint& point, WindowKeyframe& target, int level) {
-  WindowKeyframe& host = mutableKeyframe(point.host_id);
+  WindowKeyframe& host = keyframeRef(point.host_id);
   const std::optional<WindowObservation> maybe_obs = observation(point, target, level);
   if (!maybe_obs) return false;
   const WindowObservation& obs = *maybe_obs;
@@ -188,7 +203,7 @@ void SlidingWindow::fixGaugeBeforeFirstSolve() {
     if (point->residuals.size() > best->residuals.size()) best = point.get();
   }
   scale_anchor_point_id_ = best->id;
-  problem_->SetParameterBlockConstant(&mutablePoint(best->id).inverse_distance);
+  problem_->SetParameterBlockConstant(&pointRef(best->id).inverse_distance);
 }
 
 int SlidingWindow::removeResiduals(double max_energy, int min_residuals_per_point) {
@@ -209,6 +224,7 @@ int SlidingWindow::removeResiduals(double max_energy, int min_residuals_per_poin
       weak_points.push_back(pid);
   }
   for (int pid : weak_points) removePoint(pid, false);
+  all_residuals_valid_ = true;  // every invalid one had infinite energy
   return removed;
 }
 
@@ -219,7 +235,9 @@ int SlidingWindow::dropInvalidResiduals() {
 WindowSolveSummary SlidingWindow::optimize() {
   // Residuals whose projection has left the image (or the model's domain) since they were
   // made would only carry the constant penalty: dropped, as DSO drops out-of-bounds residuals.
-  dropInvalidResiduals();
+  // Skipped when nothing has moved since the last pass (the odometry's removeOutliers after
+  // the previous solve; new residuals are only added where valid).
+  if (!all_residuals_valid_) dropInvalidResiduals();
   fixGaugeBeforeFirstSolve();
   return solve();
 }
@@ -229,7 +247,7 @@ void SlidingWindow::rebuildResiduals(int level,
   for (auto& [pid, point] : points_) {
     for (const auto& [target, id] : point->residuals) problem_->RemoveResidualBlock(id);
     point->residuals.clear();
-    for (int target : targets_by_point.at(pid)) addResidual(*point, mutableKeyframe(target), level);
+    for (int target : targets_by_point.at(pid)) addResidual(*point, keyframeRef(target), level);
   }
 }
 
@@ -296,6 +314,7 @@ WindowSolveSummary SlidingWindow::solve() {
   Stopwatch watch;
   ceres::Solver::Summary summary;
   ceres::Solve(solver, problem_.get(), &summary);
+  all_residuals_valid_ = false;
   out.solve_ms = watch.elapsedMs();
   out.iterations = static_cast<int>(summary.iterations.size()) - 1;
   out.successful_iterations = summary.num_successful_steps;
@@ -332,7 +351,7 @@ void SlidingWindow::recordMarginalized(const WindowPoint& point) {
 }
 
 void SlidingWindow::removePoint(int id, bool marginalize) {
-  WindowPoint& point = mutablePoint(id);
+  WindowPoint& point = pointRef(id);
   double* block = &point.inverse_distance;
   if (marginalize && !point.residuals.empty()) {
     recordMarginalized(point);
@@ -374,7 +393,7 @@ std::vector<int> SlidingWindow::keyframesToMarginalize(
 }
 
 void SlidingWindow::marginalizeKeyframe(int id) {
-  WindowKeyframe& kf = mutableKeyframe(id);
+  WindowKeyframe& kf = keyframeRef(id);
   std::vector<int> newest_two;
   for (size_t i = keyframes_.size(); i-- > 0 && newest_two.size() < 2;)
     if (keyframes_[i]->id != id) newest_two.push_back(keyframes_[i]->id);

@@ -190,6 +190,26 @@ TEST(SlidingWindow, RecoversPerturbedKeyframesAndPointsOnRenderedScene) {
   EXPECT_LT(e.median_inverse_distance_rel, 0.03);
 }
 
+// optimize() skips its pass over invalid residuals when nothing moved since the last one
+// (removeOutliers); a state edited through a mutable accessor has moved, so residuals that
+// left the image by the edit are dropped before the solve.
+TEST(SlidingWindow, OptimizeDropsResidualsInvalidatedByAnEdit) {
+  const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
+  const int num_keyframes = 5;
+  const WindowScene ws(camera, num_keyframes, sweep);
+  std::map<int, double> true_d;
+  WindowOptions options = recoveryOptions(num_keyframes, false);
+  options.max_iterations = 1;
+  const auto window = groundTruthWindow(camera, ws, options, 24, &true_d);
+  window->removeOutliers();
+  const int before = window->numResiduals();
+  // Turning the newest keyframe by 60° moves many of its observations out of the image.
+  WindowKeyframe& kf = window->mutableKeyframe(num_keyframes - 1);
+  test::moveInCamera(kf.T_world_cam(), Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 60, 0))
+      .toParameters(kf.pose.data());
+  const WindowSolveSummary summary = window->optimize();
+  EXPECT_LT(summary.num_residuals, before);
+}
 
 // Intrinsics perturbed by 1 % (every parameter, in the sign pattern given) with poses,
 // points and affine parameters free: the joint solve brings each parameter back within

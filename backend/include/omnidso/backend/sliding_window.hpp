@@ -172,9 +172,11 @@ class SlidingWindow {
   // Test access: set the state directly (e.g. to perturb it).
   WindowKeyframe& mutableKeyframe(int id);
   WindowPoint& mutablePoint(int id);
-  Eigen::VectorXd& mutableIntrinsics() { return intrinsics_; }
+  Eigen::VectorXd& mutableIntrinsics();
 
  private:
+  WindowKeyframe& keyframeRef(int id);
+  WindowPoint& pointRef(int id);
   bool addResidual(WindowPoint& point, WindowKeyframe& target, int level = 0);
   std::optional<WindowObservation> observation(const WindowPoint& point,
                                                const WindowKeyframe& target, int level) const;
@@ -203,6 +205,9 @@ class SlidingWindow {
   int scale_anchor_point_id_ = -1;
   bool has_prior_ = false;
   bool scale_fixed_by_prior_ = false;
+  // Every photometric residual evaluates validly at the current state: true after a removal
+  // pass, false once a solve or a mutable accessor may have moved the state.
+  bool all_residuals_valid_ = false;
   std::vector<MarginalizedPoint> marginalized_points_;
 };
 
