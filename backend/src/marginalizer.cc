@@ -82,24 +82,31 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
                                                  const std::vector<double*>& blocks,
                                                  MarginalizationStats* stats) {
   MarginalizationStats local_stats;
-  // 1. Residual blocks connected to M, and the Markov blanket K.
+  // 1. Residual blocks connected to M, in the problem's order (a parameter block's own list
+  // is a hash set of addresses, whose order would change the prior's last bits from run to
+  // run), and the Markov blanket K.
   std::unordered_set<double*> removed(blocks.begin(), blocks.end());
+  std::unordered_set<ceres::ResidualBlockId> connected;
+  for (double* block : blocks) {
+    std::vector<ceres::ResidualBlockId> ids;
+    problem.GetResidualBlocksForParameterBlock(block, &ids);
+    connected.insert(ids.begin(), ids.end());
+  }
   std::vector<ceres::ResidualBlockId> residual_blocks;
-  std::unordered_set<ceres::ResidualBlockId> seen_residuals;
+  if (!connected.empty()) {
+    std::vector<ceres::ResidualBlockId> all;
+    problem.GetResidualBlocks(&all);
+    for (ceres::ResidualBlockId id : all)
+      if (connected.count(id)) residual_blocks.push_back(id);
+  }
   std::vector<double*> kept;
   std::unordered_set<double*> seen_kept;
-  for (double* block : blocks) {
-    std::vector<ceres::ResidualBlockId> connected;
-    problem.GetResidualBlocksForParameterBlock(block, &connected);
-    for (ceres::ResidualBlockId id : connected) {
-      if (!seen_residuals.insert(id).second) continue;
-      residual_blocks.push_back(id);
-      std::vector<double*> params;
-      problem.GetParameterBlocksForResidualBlock(id, &params);
-      for (double* p : params) {
-        if (removed.count(p) || problem.IsParameterBlockConstant(p)) continue;
-        if (seen_kept.insert(p).second) kept.push_back(p);
-      }
+  for (ceres::ResidualBlockId id : residual_blocks) {
+    std::vector<double*> params;
+    problem.GetParameterBlocksForResidualBlock(id, &params);
+    for (double* p : params) {
+      if (removed.count(p) || problem.IsParameterBlockConstant(p)) continue;
+      if (seen_kept.insert(p).second) kept.push_back(p);
     }
   }
   // Deterministic column order of K: the order in which blocks were met above.

@@ -21,7 +21,8 @@ SlidingWindow::SlidingWindow(const std::string& model_name, const Eigen::VectorX
       factory_(PhotometricResidualFactory::forModel(model_name)),
       intrinsics_(intrinsics),
       pose_manifold_(std::make_unique<SE3Manifold>()),
-      loss_(makePhotometricLoss(kWindowPatternSize, options.huber_threshold)) {
+      loss_(makePhotometricLoss(kWindowPatternSize, options.huber_threshold)),
+      inverse_distance_slots_(options.max_points) {
   if (intrinsics_.size() != factory_->numIntrinsics())
     throw Error("SlidingWindow: model '" + model_name + "' takes " +
                 std::to_string(factory_->numIntrinsics()) + " intrinsics, got " +
@@ -164,7 +165,7 @@ int SlidingWindow::addPoint(int host_id, const Eigen::Vector2d& pixel, double in
   if (!(pixel.x() >= margin && pixel.y() >= margin && pixel.x() <= image.width() - 1 - margin &&
         pixel.y() <= image.height() - 1 - margin))
     return -1;
-  auto point = std::make_unique<WindowPoint>();
+  auto point = std::make_unique<WindowPoint>(*inverse_distance_slots_.acquire());
   point->id = next_point_id_;
   point->host_id = host_id;
   point->pixel = pixel;
@@ -176,6 +177,7 @@ int SlidingWindow::addPoint(int host_id, const Eigen::Vector2d& pixel, double in
     if (kf->id != host_id) addResidual(*point, *kf);
   if (point->residuals.empty()) {
     problem_->RemoveParameterBlock(&point->inverse_distance);
+    inverse_distance_slots_.release(&point->inverse_distance);
     return -1;
   }
   ++next_point_id_;
@@ -289,19 +291,24 @@ WindowSolveSummary SlidingWindow::solve() {
   out.num_residuals = numResiduals();
   if (out.num_residuals == 0) return out;
 
+  // Elimination order, independent of memory addresses (Ceres orders the blocks within a
+  // group by address): points first (group 0, eliminated; their slots make address order
+  // deterministic, parameter_slots.hpp), then each keyframe's pose and affine blocks in a
+  // group of their own, oldest first, then the intrinsics.
   ceres::Solver::Options solver;
   auto* ordering = new ceres::ParameterBlockOrdering;
-  std::vector<double*> all_blocks;
-  problem_->GetParameterBlocks(&all_blocks);
-  int reduced_size = 0;
-  for (double* block : all_blocks) {
-    const bool is_point = problem_->ParameterBlockSize(block) == 1 &&
-                          problem_->ParameterBlockTangentSize(block) == 1 &&
-                          block != intrinsics_.data();
-    ordering->AddElementToGroup(block, is_point ? 0 : 1);
-    if (!is_point && !problem_->IsParameterBlockConstant(block))
+  for (const auto& [pid, point] : points_) ordering->AddElementToGroup(&point->inverse_distance, 0);
+  int group = 1, reduced_size = 0;
+  auto addReduced = [&](double* block) {
+    ordering->AddElementToGroup(block, group++);
+    if (!problem_->IsParameterBlockConstant(block))
       reduced_size += problem_->ParameterBlockTangentSize(block);
+  };
+  for (const auto& kf : keyframes_) {
+    addReduced(kf->pose.data());
+    addReduced(kf->affine.data());
   }
+  addReduced(intrinsics_.data());
   solver.linear_solver_ordering.reset(ordering);
   solver.linear_solver_type = reduced_size <= options_.dense_schur_max_size
                                   ? ceres::DENSE_SCHUR
@@ -362,7 +369,13 @@ void SlidingWindow::removePoint(int id, bool marginalize) {
     marginalizer_.forget(block);
   }
   if (id == scale_anchor_point_id_) scale_anchor_point_id_ = -1;
-  points_.erase(id);
+  erasePoint(id);
+}
+
+void SlidingWindow::erasePoint(int id) {
+  const auto it = points_.find(id);
+  inverse_distance_slots_.release(&it->second->inverse_distance);
+  points_.erase(it);
 }
 
 std::vector<KeyframeSummary> SlidingWindow::keyframeSummaries() const {
@@ -421,7 +434,7 @@ void SlidingWindow::marginalizeKeyframe(int id) {
       scale_fixed_by_prior_ = true;
       scale_anchor_point_id_ = -1;
     }
-    points_.erase(pid);
+    erasePoint(pid);
   }
   for (int pid : dropped_ids) removePoint(pid, false);
 

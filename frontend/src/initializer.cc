@@ -117,9 +117,12 @@ struct Initializer::Impl {
       ceres::Solver::Options so;
       auto* ordering = new ceres::ParameterBlockOrdering;
       for (const auto& [i, id] : blocks) ordering->AddElementToGroup(&inverse_distances[i], 0);
+      // One group each: Ceres orders a group's blocks by address, which would make the
+      // reduced system's column order (and its last bits) depend on the heap layout.
+      int group = 1;
       for (double* b : {pose.data(), host_pose.data(), host_affine.data(), affine.data(),
                         intrinsics.data()})
-        ordering->AddElementToGroup(b, 1);
+        ordering->AddElementToGroup(b, group++);
       so.linear_solver_ordering.reset(ordering);
       so.linear_solver_type = ceres::DENSE_SCHUR;
       so.max_num_iterations = options.max_iterations_per_level;

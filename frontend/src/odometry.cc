@@ -237,7 +237,11 @@ struct Odometry::Impl {
       }
       return;
     }
-    window = std::make_unique<SlidingWindow>(camera.modelName(), camera.params(), options.window);
+    WindowOptions window_options = options.window;
+    // Activation stops at num_points active points; the initialisation's may exceed it a
+    // little: room to spare, so that the slots never run out.
+    window_options.max_points = std::max(window_options.max_points, 4 * options.num_points);
+    window = std::make_unique<SlidingWindow>(camera.modelName(), camera.params(), window_options);
     FrameRecord& first = frames[first_frame_index];
     window->addKeyframe(first.index, first.timestamp, first_exposure, SE3d(),
                         Eigen::Vector2d::Zero(), first_pyramid);

@@ -43,6 +43,7 @@
 #include <optional>
 #include <omnidso/backend/keyframe_marginalization_policy.hpp>
 #include <omnidso/backend/marginalizer.hpp>
+#include <omnidso/backend/parameter_slots.hpp>
 #include <omnidso/backend/photometric_factory.hpp>
 #include <omnidso/core/pyramid.hpp>
 #include <omnidso/core/se3.hpp>
@@ -76,6 +77,9 @@ struct WindowOptions {
   double affine_prior_weight_a = 1e8;
   double affine_prior_weight_b = 1e6;
   double gradient_weight_c = kDsoGradientWeightC;
+  // Capacity of the inverse-distance storage (parameter_slots.hpp): the most points the
+  // window can hold at once; addPoint throws beyond it.
+  int max_points = 1 << 16;
 };
 
 struct WindowKeyframe {
@@ -90,10 +94,13 @@ struct WindowKeyframe {
 };
 
 struct WindowPoint {
+  // inverse_distance_slot: the point's parameter block, owned by the window's ParameterSlots.
+  explicit WindowPoint(double& inverse_distance_slot) : inverse_distance(inverse_distance_slot) {}
+
+  double& inverse_distance;
   int id = 0;
   int host_id = 0;
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // level 0
-  double inverse_distance = 0.0;
   HostPatch<kWindowPatternSize> patch;
   std::map<int, ceres::ResidualBlockId> residuals;  // by target keyframe id
 
@@ -187,6 +194,8 @@ class SlidingWindow {
   int removeResiduals(double max_energy, int min_residuals_per_point);
   WindowSolveSummary solve();
   void removePoint(int id, bool marginalize);
+  // Forgets a point whose block has left the problem, and frees its slot.
+  void erasePoint(int id);
   int dropInvalidResiduals();
   void fixGaugeBeforeFirstSolve();
   void recordMarginalized(const WindowPoint& point);
@@ -196,6 +205,7 @@ class SlidingWindow {
   Eigen::VectorXd intrinsics_;
   std::unique_ptr<ceres::Manifold> pose_manifold_;
   std::unique_ptr<ceres::LossFunction> loss_;
+  ParameterSlots inverse_distance_slots_;  // before problem_: it outlives the problem
   std::unique_ptr<ceres::Problem> problem_;
   Marginalizer marginalizer_;
   std::vector<std::unique_ptr<WindowKeyframe>> keyframes_;  // oldest first
