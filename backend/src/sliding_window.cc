@@ -315,6 +315,7 @@ WindowSolveSummary SlidingWindow::solve() {
                                   : ceres::SPARSE_SCHUR;
   solver.max_num_iterations = options_.max_iterations;
   solver.function_tolerance = options_.function_tolerance;
+  solver.jacobi_scaling = options_.jacobi_scaling;
   solver.max_solver_time_in_seconds = options_.max_solver_time_s;
   solver.num_threads = options_.num_threads;
   solver.logging_type = ceres::SILENT;

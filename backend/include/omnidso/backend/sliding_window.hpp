@@ -10,7 +10,7 @@
 // Solving: points form the first elimination group, so Ceres's Schur complement removes them
 // (DENSE_SCHUR while the reduced camera system is small, SPARSE_SCHUR beyond);
 // Levenberg–Marquardt with an iteration limit (DSO: at most 6 Gauss–Newton iterations per
-// keyframe; we default to 3, see WindowOptions::max_iterations) and a time limit.
+// keyframe; we default to 2, see WindowOptions::max_iterations) and a time limit.
 //
 // Gauge (7 DoF of monocular odometry, plus the brightness offset of the affine model):
 //  - pose: the first keyframe's pose is held constant while it is in the window;
@@ -59,13 +59,19 @@ struct WindowOptions {
   // intrinsics towards the calibration they started from; 0 leaves them free.
   double intrinsics_prior_weight = 0.0;
   DifferentiationMode differentiation = DifferentiationMode::kAnalytic;
-  // Per keyframe. The tracker's estimates arrive nearly right: on four rendered sequences 3
-  // iterations were as accurate as 4 or 6 (docs/performance.md) at half the cost of 6.
-  int max_iterations = 3;
+  // Per keyframe. The tracker's estimates arrive nearly right: on four rendered sequences 2
+  // iterations were as accurate as 3, 4 or 6 (docs/performance.md) at a third of the cost
+  // of 6. (Ceres evaluates the Jacobian once more after the last step: 2 iterations cost
+  // 3 Jacobian and 2 residual evaluations.)
+  int max_iterations = 2;
   // Ceres's function_tolerance: stop once an iteration lowers the cost by less than this
   // fraction (DSO likewise stops early once its updates become small).
   double function_tolerance = 1e-6;
   double max_solver_time_s = 1e6;
+  // Ceres's jacobi_scaling (columns of J scaled to unit norm). Off: Levenberg–Marquardt
+  // already damps with diag(JᵀJ), and on the four sequences the ATE was the same to three
+  // digits without it while the window was ≈ 2 % faster (docs/performance.md).
+  bool jacobi_scaling = false;
   int num_threads = 1;
   // Reduced camera systems up to this size use DENSE_SCHUR, larger ones SPARSE_SCHUR.
   int dense_schur_max_size = 400;
