@@ -163,21 +163,20 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
     local_stats.num_residual_blocks = static_cast<int>(residual_blocks.size());
     local_stats.num_marginalized_blocks = static_cast<int>(blocks.size());
   };
-  if (!evaluated) {  // nothing to linearise: the blocks leave without a prior
-    removeFromProblem();
-    if (stats) *stats = local_stats;
-    return nullptr;
-  }
   // The Jacobian at the first-estimate point; where some residual cannot be evaluated there,
   // the one at the current estimate (which evaluates: r did).
   ceres::CRSMatrix jacobian_crs;
-  for (size_t i = 0; i < ordered.size(); ++i)
-    Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = first_estimate[i];
-  const bool fej_ok = problem.Evaluate(eval, nullptr, nullptr, nullptr, &jacobian_crs);
-  for (size_t i = 0; i < ordered.size(); ++i)
-    Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = current[i];
-  if (!fej_ok && !problem.Evaluate(eval, nullptr, nullptr, nullptr, &jacobian_crs)) {
-    removeFromProblem();  // r evaluated but J did not: nothing consistent to keep
+  bool fej_ok = false;
+  if (evaluated) {
+    for (size_t i = 0; i < ordered.size(); ++i)
+      Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = first_estimate[i];
+    fej_ok = problem.Evaluate(eval, nullptr, nullptr, nullptr, &jacobian_crs);
+    for (size_t i = 0; i < ordered.size(); ++i)
+      Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = current[i];
+    evaluated = fej_ok || problem.Evaluate(eval, nullptr, nullptr, nullptr, &jacobian_crs);
+  }
+  if (!evaluated) {  // nothing to linearise: the blocks leave without a prior
+    removeFromProblem();
     if (stats) *stats = local_stats;
     return nullptr;
   }
