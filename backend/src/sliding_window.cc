@@ -11,6 +11,7 @@
 #include <omnidso/core/timing.hpp>
 #include <omnidso/residuals/out_of_bounds_penalty.hpp>
 #include <omnidso/residuals/residual_pattern.hpp>
+#include <omnidso/residuals/reusing_cost_function.hpp>
 #include <omnidso/residuals/se3_manifold.hpp>
 
 namespace omnidso {
@@ -32,6 +33,7 @@ SlidingWindow::SlidingWindow(const std::string& model_name, const Eigen::VectorX
   problem_options.enable_fast_removal = true;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  if (options_.reuse_evaluations) problem_options.evaluation_callback = &evaluation_reuse_;
   problem_ = std::make_unique<ceres::Problem>(problem_options);
   problem_->AddParameterBlock(intrinsics_.data(), static_cast<int>(intrinsics_.size()));
   if (!options_.optimize_intrinsics) problem_->SetParameterBlockConstant(intrinsics_.data());
@@ -149,11 +151,11 @@ bool SlidingWindow::addResidual(WindowPoint& point, WindowKeyframe& target, int 
   std::vector<double*> blocks = {host.pose.data(),   target.pose.data(),  &point.inverse_distance,
                                  host.affine.data(), target.affine.data(), intrinsics_.data()};
   if (factory_->status(obs, blocks.data()) != PhotometricStatus::kValid) return false;
-  point.residuals[target.id] =
-      problem_->AddResidualBlock(
-          new OutOfBoundsPenalty(factory_->makeCost(options_.differentiation, obs),
-                                 options_.outlier_energy_per_pixel * kWindowPatternSize),
-          loss_.get(), blocks);
+  ceres::CostFunction* cost = factory_->makeCost(options_.differentiation, obs);
+  if (options_.reuse_evaluations) cost = new ReusingCostFunction(cost, &evaluation_reuse_);
+  point.residuals[target.id] = problem_->AddResidualBlock(
+      new OutOfBoundsPenalty(cost, options_.outlier_energy_per_pixel * kWindowPatternSize),
+      loss_.get(), blocks);
   return true;
 }
 
@@ -321,7 +323,9 @@ WindowSolveSummary SlidingWindow::solve() {
   solver.logging_type = ceres::SILENT;
   Stopwatch watch;
   ceres::Solver::Summary summary;
+  evaluation_reuse_.arm(solver.max_num_iterations);
   ceres::Solve(solver, problem_.get(), &summary);
+  evaluation_reuse_.disarm();
   all_residuals_valid_ = false;
   out.solve_ms = watch.elapsedMs();
   out.iterations = static_cast<int>(summary.iterations.size()) - 1;

@@ -47,6 +47,7 @@
 #include <omnidso/backend/photometric_factory.hpp>
 #include <omnidso/core/pyramid.hpp>
 #include <omnidso/core/se3.hpp>
+#include <omnidso/residuals/evaluation_reuse.hpp>
 #include <string>
 #include <vector>
 
@@ -61,8 +62,8 @@ struct WindowOptions {
   DifferentiationMode differentiation = DifferentiationMode::kAnalytic;
   // Per keyframe. The tracker's estimates arrive nearly right: on four rendered sequences 2
   // iterations were as accurate as 3, 4 or 6 (docs/performance.md) at a third of the cost
-  // of 6. (Ceres evaluates the Jacobian once more after the last step: 2 iterations cost
-  // 3 Jacobian and 2 residual evaluations.)
+  // of 6. (Ceres evaluates the Jacobian once more after the last step, so 2 iterations
+  // cost 3 Jacobian and 2 residual evaluations; reuse_evaluations leaves 2 and 1.)
   int max_iterations = 2;
   // Ceres's function_tolerance: stop once an iteration lowers the cost by less than this
   // fraction (DSO likewise stops early once its updates become small).
@@ -72,6 +73,9 @@ struct WindowOptions {
   // already damps with diag(JᵀJ), and on the four sequences the ATE was the same to three
   // digits without it while the window was ≈ 2 % faster (docs/performance.md).
   bool jacobi_scaling = false;
+  // Reuse within a solve what Ceres evaluates twice, and skip the Jacobian it evaluates after
+  // the last step and never uses (evaluation_reuse.hpp): the same solution bit for bit.
+  bool reuse_evaluations = true;
   int num_threads = 1;
   // Reduced camera systems up to this size use DENSE_SCHUR, larger ones SPARSE_SCHUR.
   int dense_schur_max_size = 400;
@@ -122,7 +126,8 @@ struct MarginalizedPoint {
 
 struct WindowSolveSummary {
   int iterations = 0;
-  // Iterations whose step Ceres accepted (the others only shrank the trust region).
+  // Iterations whose step Ceres accepted (the others only shrank the trust region), as
+  // Ceres counts them: iteration 0 included.
   int successful_iterations = 0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
@@ -212,6 +217,7 @@ class SlidingWindow {
   std::unique_ptr<ceres::Manifold> pose_manifold_;
   std::unique_ptr<ceres::LossFunction> loss_;
   ParameterSlots inverse_distance_slots_;  // before problem_: it outlives the problem
+  EvaluationReuse evaluation_reuse_;  // likewise
   std::unique_ptr<ceres::Problem> problem_;
   Marginalizer marginalizer_;
   std::vector<std::unique_ptr<WindowKeyframe>> keyframes_;  // oldest first
