@@ -1,7 +1,6 @@
 #include <omnidso/backend/marginalization_prior.hpp>
 #include <omnidso/backend/marginalizer.hpp>
 
-#include <ceres/crs_matrix.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Sparse>
@@ -11,18 +10,100 @@
 namespace omnidso {
 namespace {
 
-using SparseRowMajor = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-SparseRowMajor toSparse(const ceres::CRSMatrix& crs) {
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(crs.values.size());
-  for (int row = 0; row < crs.num_rows; ++row)
-    for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k)
-      triplets.emplace_back(row, crs.cols[k], crs.values[k]);
-  SparseRowMajor J(crs.num_rows, crs.num_cols);
-  J.setFromTriplets(triplets.begin(), triplets.end());
-  return J;
+// One residual block of R: its parameter blocks as indices into the ordered blocks [M | K]
+// (-1 for constant ones, which get no Jacobian) and its residuals at the current estimate.
+struct LinearizedBlock {
+  ceres::ResidualBlockId id = nullptr;
+  std::vector<int> block_index;
+  int num_residuals = 0;
+  int jacobian_cols = 0;             // Σ tangent sizes of its non-constant blocks
+  std::vector<double> r;             // at the current estimate
+  std::vector<double> jacobian;      // num_residuals × jacobian_cols, row-major
+};
+
+// J of one residual block at the problem's current parameter values (loss function and
+// manifolds applied, as in a solve), its non-constant blocks side by side in their order.
+bool evaluateJacobian(const ceres::Problem& problem, const std::vector<int>& tangent_sizes,
+                      LinearizedBlock& block) {
+  const int n = block.num_residuals;
+  const size_t num_blocks = block.block_index.size();
+  std::vector<RowMatrix> parts(num_blocks);
+  std::vector<double*> pointers(num_blocks, nullptr);
+  for (size_t i = 0; i < num_blocks; ++i) {
+    if (block.block_index[i] < 0) continue;  // constant: Ceres refuses its Jacobian
+    parts[i].resize(n, tangent_sizes[block.block_index[i]]);
+    pointers[i] = parts[i].data();
+  }
+  std::vector<double> residuals(n);
+  double cost = 0.0;
+  if (!problem.EvaluateResidualBlock(block.id, true, &cost, residuals.data(), pointers.data()))
+    return false;
+  RowMatrix J(n, block.jacobian_cols);
+  int col = 0;
+  for (const RowMatrix& part : parts) {
+    J.middleCols(col, part.cols()) = part;
+    col += static_cast<int>(part.cols());
+  }
+  block.jacobian.assign(J.data(), J.data() + J.size());
+  return true;
 }
+
+// Normal equations of the linearised R in δ coordinates, split [M | K]: H_MM (sparse: for
+// points block-diagonal), H_KM and H_KK dense (K is a few keyframes), g over [M | K]. Each
+// residual block adds its own dense JᵀJ, so no global Jacobian is formed.
+struct NormalEquations {
+  NormalEquations(int m, int k) : m(m), H_km(Eigen::MatrixXd::Zero(k, m)),
+                                  H_kk(Eigen::MatrixXd::Zero(k, k)),
+                                  g(Eigen::VectorXd::Zero(m + k)) {}
+  int m;
+  std::vector<Eigen::Triplet<double>> H_mm_entries;  // summed on assembly
+  Eigen::MatrixXd H_km, H_kk;
+  Eigen::VectorXd g;
+
+  // Adds JᵀJ and Jᵀr₀ of one block; `offsets` place each ordered block in [M | K].
+  void add(const LinearizedBlock& block, const std::vector<int>& offsets,
+           const std::vector<int>& tangent_sizes, const Eigen::VectorXd& delta_current) {
+    const Eigen::Map<const RowMatrix> J(block.jacobian.data(), block.num_residuals,
+                                        block.jacobian_cols);
+    std::vector<int> global, local;  // per non-constant block: offset in [M | K], in J
+    Eigen::VectorXd delta(block.jacobian_cols);
+    int col = 0;
+    for (int index : block.block_index) {
+      if (index < 0) continue;
+      global.push_back(offsets[index]);
+      local.push_back(col);
+      delta.segment(col, tangent_sizes[index]) =
+          delta_current.segment(offsets[index], tangent_sizes[index]);
+      col += tangent_sizes[index];
+    }
+    local.push_back(col);
+    // r(δ) ≈ r₀ + J δ with r₀ = r(x) − J (x ⊟ x̄).
+    const Eigen::VectorXd r0 =
+        Eigen::Map<const Eigen::VectorXd>(block.r.data(), block.num_residuals) - J * delta;
+    const Eigen::MatrixXd JtJ = J.transpose() * J;
+    const Eigen::VectorXd Jtr = J.transpose() * r0;
+    for (size_t a = 0; a < global.size(); ++a) {
+      const int size_a = local[a + 1] - local[a];
+      g.segment(global[a], size_a) += Jtr.segment(local[a], size_a);
+      for (size_t b = 0; b < global.size(); ++b) {
+        const int size_b = local[b + 1] - local[b];
+        const auto part = JtJ.block(local[a], local[b], size_a, size_b);
+        const bool a_in_m = global[a] < m, b_in_m = global[b] < m;
+        if (a_in_m && b_in_m) {
+          for (int i = 0; i < size_a; ++i)
+            for (int j = 0; j < size_b; ++j)
+              H_mm_entries.emplace_back(global[a] + i, global[b] + j, part(i, j));
+        } else if (!a_in_m && b_in_m) {
+          H_km.block(global[a] - m, global[b], size_a, size_b) += part;
+        } else if (!a_in_m && !b_in_m) {
+          H_kk.block(global[a] - m, global[b] - m, size_a, size_b) += part;
+        }  // H_MK = H_KMᵀ: not needed
+      }
+    }
+  }
+};
 
 // Pseudo-inverse of a symmetric positive semi-definite matrix.
 Eigen::MatrixXd pseudoInverse(const Eigen::MatrixXd& A, double relative_threshold) {
@@ -117,12 +198,15 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
   ordered.insert(ordered.end(), kept.begin(), kept.end());
 
   // Tangent layout and first-estimate points.
-  std::vector<int> offsets;
+  std::vector<int> offsets, tangent_sizes;
+  std::unordered_map<const double*, int> index_of;
   std::vector<Eigen::VectorXd> current(ordered.size()), first_estimate(ordered.size());
   int dim = 0, dim_removed = 0;
   for (size_t i = 0; i < ordered.size(); ++i) {
+    index_of.emplace(ordered[i], static_cast<int>(i));
     offsets.push_back(dim);
-    dim += problem.ParameterBlockTangentSize(ordered[i]);
+    tangent_sizes.push_back(problem.ParameterBlockTangentSize(ordered[i]));
+    dim += tangent_sizes.back();
     if (static_cast<int>(i) < num_removed_blocks) dim_removed = dim;
     const int n = problem.ParameterBlockSize(ordered[i]);
     current[i] = Eigen::Map<const Eigen::VectorXd>(ordered[i], n);
@@ -130,59 +214,7 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
     first_estimate[i] = lin ? *lin : current[i];
   }
 
-  // 2. Linearise: r at the current estimate, J at the first-estimate point. A residual that
-  // cannot be evaluated at the current estimate (its point projects out of the target)
-  // carries no information there: it is left out of the prior (and removed below).
-  ceres::Problem::EvaluateOptions eval;
-  eval.parameter_blocks = ordered;
-  eval.residual_blocks = residual_blocks;
-  std::vector<double> r_current;
-  // (An empty residual list means "all residuals" to Problem::Evaluate: never pass one.)
-  bool evaluated = !residual_blocks.empty() &&
-                   problem.Evaluate(eval, nullptr, &r_current, nullptr, nullptr);
-  if (!evaluated && !residual_blocks.empty()) {
-    std::vector<ceres::ResidualBlockId> evaluable;
-    for (ceres::ResidualBlockId id : residual_blocks) {
-      double cost = 0.0;
-      if (problem.EvaluateResidualBlock(id, true, &cost, nullptr, nullptr)) evaluable.push_back(id);
-    }
-    local_stats.num_unevaluable_residual_blocks =
-        static_cast<int>(residual_blocks.size() - evaluable.size());
-    eval.residual_blocks = evaluable;
-    r_current.clear();
-    evaluated = !evaluable.empty() &&
-                problem.Evaluate(eval, nullptr, &r_current, nullptr, nullptr);
-  }
-  // 5 (first half, also when nothing could be linearised). The problem no longer holds R or M.
-  auto removeFromProblem = [&] {
-    for (ceres::ResidualBlockId id : residual_blocks) problem.RemoveResidualBlock(id);
-    for (double* b : blocks) {
-      problem.RemoveParameterBlock(b);
-      linearization_points_.erase(b);
-    }
-    local_stats.num_residual_blocks = static_cast<int>(residual_blocks.size());
-    local_stats.num_marginalized_blocks = static_cast<int>(blocks.size());
-  };
-  // The Jacobian at the first-estimate point; where some residual cannot be evaluated there,
-  // the one at the current estimate (which evaluates: r did).
-  ceres::CRSMatrix jacobian_crs;
-  bool fej_ok = false;
-  if (evaluated) {
-    for (size_t i = 0; i < ordered.size(); ++i)
-      Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = first_estimate[i];
-    fej_ok = problem.Evaluate(eval, nullptr, nullptr, nullptr, &jacobian_crs);
-    for (size_t i = 0; i < ordered.size(); ++i)
-      Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = current[i];
-    evaluated = fej_ok || problem.Evaluate(eval, nullptr, nullptr, nullptr, &jacobian_crs);
-  }
-  if (!evaluated) {  // nothing to linearise: the blocks leave without a prior
-    removeFromProblem();
-    if (stats) *stats = local_stats;
-    return nullptr;
-  }
-  const SparseRowMajor J = toSparse(jacobian_crs);
-  local_stats.used_first_estimate_jacobians = fej_ok;
-
+  // The prior's blocks, and x ⊟ x̄ at the current estimate.
   std::vector<PriorBlock> prior_blocks(ordered.size());
   Eigen::VectorXd delta_current(dim);
   for (size_t i = 0; i < ordered.size(); ++i) {
@@ -193,23 +225,76 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
     delta_current.segment(offsets[i], pb.tangentSize()) =
         MarginalizationPrior::tangentDelta(pb, ordered[i]);
   }
-  const Eigen::VectorXd r0 =
-      Eigen::Map<const Eigen::VectorXd>(r_current.data(), r_current.size()) - J * delta_current;
 
-  // 3. Schur complement onto K.
-  // J is sparse (each residual touches few blocks); M can be hundreds of points while K
-  // is a few keyframes, so only the K×K and K×M parts are made dense.
-  const Eigen::SparseMatrix<double> H = Eigen::SparseMatrix<double>(J.transpose()) * J;
-  const Eigen::VectorXd g = J.transpose() * r0;
+  // 2. Linearise, one residual block at a time: r at the current estimate, J at the
+  // first-estimate point. A residual that cannot be evaluated at the current estimate (its
+  // point projects out of the target) carries no information there: it is left out of the
+  // prior (and removed below).
+  std::vector<LinearizedBlock> linearized;
+  for (ceres::ResidualBlockId id : residual_blocks) {
+    LinearizedBlock block;
+    block.id = id;
+    block.num_residuals = problem.GetCostFunctionForResidualBlock(id)->num_residuals();
+    block.r.resize(block.num_residuals);
+    double cost = 0.0;
+    if (!problem.EvaluateResidualBlock(id, true, &cost, block.r.data(), nullptr)) {
+      ++local_stats.num_unevaluable_residual_blocks;
+      continue;
+    }
+    std::vector<double*> params;
+    problem.GetParameterBlocksForResidualBlock(id, &params);
+    for (double* p : params) {
+      const auto it = index_of.find(p);
+      block.block_index.push_back(it == index_of.end() ? -1 : it->second);
+      if (it != index_of.end()) block.jacobian_cols += tangent_sizes[it->second];
+    }
+    linearized.push_back(std::move(block));
+  }
+  // The Jacobians at the first-estimate point; where some residual cannot be evaluated
+  // there, all at the current estimate (which evaluates: r did).
+  auto evaluateJacobians = [&] {
+    for (LinearizedBlock& block : linearized)
+      if (!evaluateJacobian(problem, tangent_sizes, block)) return false;
+    return true;
+  };
+  for (size_t i = 0; i < ordered.size(); ++i)
+    Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = first_estimate[i];
+  const bool fej_ok = !linearized.empty() && evaluateJacobians();
+  for (size_t i = 0; i < ordered.size(); ++i)
+    Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = current[i];
+  const bool evaluated = !linearized.empty() && (fej_ok || evaluateJacobians());
+
+  // 5 (first half, also when nothing could be linearised). The problem no longer holds R or M.
+  auto removeFromProblem = [&] {
+    for (ceres::ResidualBlockId id : residual_blocks) problem.RemoveResidualBlock(id);
+    for (double* b : blocks) {
+      problem.RemoveParameterBlock(b);
+      linearization_points_.erase(b);
+    }
+    local_stats.num_residual_blocks = static_cast<int>(residual_blocks.size());
+    local_stats.num_marginalized_blocks = static_cast<int>(blocks.size());
+  };
+  if (!evaluated) {  // nothing to linearise: the blocks leave without a prior
+    removeFromProblem();
+    if (stats) *stats = local_stats;
+    return nullptr;
+  }
+  local_stats.used_first_estimate_jacobians = fej_ok;
+
+  // 3. Schur complement onto K. M can be hundreds of points while K is a few keyframes: H_MM
+  // stays sparse (pseudo-inverted per coupled group), the K×K and K×M parts are dense.
   const int m = dim_removed, k = dim - dim_removed;
+  NormalEquations normal(m, k);
+  for (const LinearizedBlock& block : linearized)
+    normal.add(block, offsets, tangent_sizes, delta_current);
+  Eigen::SparseMatrix<double> H_mm(m, m);
+  H_mm.setFromTriplets(normal.H_mm_entries.begin(), normal.H_mm_entries.end());
   const Eigen::SparseMatrix<double> H_mm_inv =
-      blockPseudoInverse(H.topLeftCorner(m, m), options_.eigenvalue_threshold);
-  const Eigen::MatrixXd H_km = Eigen::MatrixXd(H.bottomLeftCorner(k, m));
-  const Eigen::MatrixXd H_km_Hmm_inv = H_km * H_mm_inv;
-  Eigen::MatrixXd H_star =
-      Eigen::MatrixXd(H.bottomRightCorner(k, k)) - H_km_Hmm_inv * H_km.transpose();
+      blockPseudoInverse(H_mm, options_.eigenvalue_threshold);
+  const Eigen::MatrixXd H_km_Hmm_inv = normal.H_km * H_mm_inv;
+  Eigen::MatrixXd H_star = normal.H_kk - H_km_Hmm_inv * normal.H_km.transpose();
   H_star = 0.5 * (H_star + H_star.transpose());
-  const Eigen::VectorXd g_star = g.tail(k) - H_km_Hmm_inv * g.head(m);
+  const Eigen::VectorXd g_star = normal.g.tail(k) - H_km_Hmm_inv * normal.g.head(m);
 
   removeFromProblem();
   ceres::ResidualBlockId prior_id = nullptr;

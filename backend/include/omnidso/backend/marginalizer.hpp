@@ -5,12 +5,14 @@
 // marginalize(problem, M) removes the parameter blocks M from `problem`:
 //  1. R = every residual block connected to a block of M (old priors included, so priors
 //     accumulate); K = the other non-constant blocks those residuals touch.
-//  2. Linearise R with Problem::Evaluate (loss functions and manifolds applied, so J is in
-//     tangent coordinates): residuals r at the current estimate, Jacobians J at the
-//     first-estimate point x̄ of every block (the stored one for blocks already under a
-//     prior, the current value otherwise). In δ = x ⊟ x̄ coordinates
+//  2. Linearise R block by block with Problem::EvaluateResidualBlock (loss functions and
+//     manifolds applied, so J is in tangent coordinates): residuals r at the current
+//     estimate, Jacobians J at the first-estimate point x̄ of every block (the stored one
+//     for blocks already under a prior, the current value otherwise). In δ = x ⊟ x̄
+//     coordinates
 //        r(δ) ≈ r₀ + J δ,   r₀ = r(x) − J (x ⊟ x̄).
-//  3. H = JᵀJ, g = Jᵀr₀, ordered [M | K]; Schur complement
+//  3. H = JᵀJ, g = Jᵀr₀, ordered [M | K], summed residual block by residual block (no
+//     global J is formed); Schur complement
 //        H* = H_KK − H_KM H_MM⁺ H_MK,   g* = g_K − H_KM H_MM⁺ g_M
 //     (H_MM⁺ a pseudo-inverse: a marginalised block may carry no information).
 //  4. Factor H* = V Λ Vᵀ, keep λ > ε λ_max, S = Λ^½ Vᵀ, s = Λ^-½ Vᵀ g*, so that
