@@ -1,7 +1,6 @@
 #include <omnidso/backend/marginalization_prior.hpp>
 #include <omnidso/backend/marginalizer.hpp>
 
-
 #include <Eigen/Eigenvalues>
 #include <Eigen/Sparse>
 #include <algorithm>
@@ -43,6 +42,7 @@ bool evaluateJacobian(const ceres::Problem& problem, const std::vector<int>& tan
   RowMatrix J(n, block.jacobian_cols);
   int col = 0;
   for (const RowMatrix& part : parts) {
+    if (part.size() == 0) continue;  // a constant block
     J.middleCols(col, part.cols()) = part;
     col += static_cast<int>(part.cols());
   }

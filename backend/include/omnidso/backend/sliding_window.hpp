@@ -62,8 +62,9 @@ struct WindowOptions {
   DifferentiationMode differentiation = DifferentiationMode::kAnalytic;
   // Per keyframe. The tracker's estimates arrive nearly right: on four rendered sequences 2
   // iterations were as accurate as 3, 4 or 6 (docs/performance.md) at a third of the cost
-  // of 6. (Ceres evaluates the Jacobian once more after the last step, so 2 iterations
-  // cost 3 Jacobian and 2 residual evaluations; reuse_evaluations leaves 2 and 1.)
+  // of 6. (Ceres evaluates residuals and Jacobian once more after the last step, so 2
+  // iterations cost 3 Jacobian and 2 residual evaluations; reuse_evaluations skips the third
+  // Jacobian evaluation.)
   int max_iterations = 2;
   // Ceres's function_tolerance: stop once an iteration lowers the cost by less than this
   // fraction (DSO likewise stops early once its updates become small).
@@ -73,8 +74,9 @@ struct WindowOptions {
   // already damps with diag(JᵀJ), and on the four sequences the ATE was the same to three
   // digits without it while the window was ≈ 2 % faster (docs/performance.md).
   bool jacobi_scaling = false;
-  // Reuse within a solve what Ceres evaluates twice, and skip the Jacobian it evaluates after
-  // the last step and never uses (evaluation_reuse.hpp): the same solution bit for bit.
+  // Skip the evaluation Ceres makes after the last allowed step and never uses (its
+  // residuals are copied from the last candidate, its Jacobians zero; evaluation_reuse.hpp):
+  // the same solution bit for bit, one Jacobian evaluation fewer per solve.
   bool reuse_evaluations = true;
   int num_threads = 1;
   // Reduced camera systems up to this size use DENSE_SCHUR, larger ones SPARSE_SCHUR.
