@@ -344,15 +344,31 @@ TEST(Marginalization, BlocksWithoutResidualsLeaveWithoutAPrior) {
   EXPECT_EQ(stats.prior_rank, 0);
 }
 
+// r = x + y − 3 and r = x (unit weights): x is determined, so y keeps information.
+void addSumAndAnchorResiduals(ceres::Problem& problem, double* x, double* y) {
+  problem.AddResidualBlock(
+      new LinearCost(Eigen::MatrixXd::Ones(1, 2), 3.0 * Eigen::VectorXd::Ones(1), {1, 1}),
+      nullptr, x, y);
+  problem.AddResidualBlock(
+      new LinearCost(Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Zero(1), {1}), nullptr, x);
+}
+
+// JᵀJ of the prior's residual block over `blocks` (in their order): the information it adds.
+Eigen::MatrixXd priorInformation(ceres::Problem& problem, ceres::ResidualBlockId prior,
+                                 const std::vector<double*>& blocks) {
+  ceres::Problem::EvaluateOptions eval;
+  eval.residual_blocks = {prior};
+  eval.parameter_blocks = blocks;
+  const Eigen::MatrixXd J = denseJacobian(problem, eval);
+  return J.transpose() * J;
+}
+
 // A residual that cannot be evaluated is left out of the prior; the prior comes from the
 // others alone: here r = x + y − 3 (unit weight) gives the prior information 1 on y.
 TEST(Marginalization, UnevaluableResidualsAreLeftOutOfThePrior) {
   ceres::Problem problem;
   double x = 1.0, y = 2.0, z = 0.5;
-  problem.AddResidualBlock(new LinearCost(Eigen::MatrixXd::Ones(1, 2), 3.0 * Eigen::VectorXd::Ones(1), {1, 1}),
-                           nullptr, &x, &y);
-  problem.AddResidualBlock(new LinearCost(Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Zero(1), {1}),
-                           nullptr, &x);  // r = x: x is determined, so y keeps information
+  addSumAndAnchorResiduals(problem, &x, &y);
   problem.AddResidualBlock(new FailingCost, nullptr, &x, &z);
   Marginalizer marginalizer;
   MarginalizationStats stats;
@@ -361,11 +377,7 @@ TEST(Marginalization, UnevaluableResidualsAreLeftOutOfThePrior) {
   EXPECT_EQ(stats.num_unevaluable_residual_blocks, 1);
   EXPECT_FALSE(problem.HasParameterBlock(&x));
   // H = [[2, 1], [1, 1]] over (x, y) → Schur onto y: 1 − 1·1/2 = 0.5. z got no information.
-  ceres::Problem::EvaluateOptions eval;
-  eval.residual_blocks = {prior};
-  eval.parameter_blocks = {&y, &z};
-  const Eigen::MatrixXd J = denseJacobian(problem, eval);
-  const Eigen::MatrixXd information = J.transpose() * J;
+  const Eigen::MatrixXd information = priorInformation(problem, prior, {&y, &z});
   ASSERT_EQ(information.rows(), 2);
   EXPECT_NEAR(information(0, 0), 0.5, 1e-9);
   EXPECT_NEAR(information(1, 1), 0.0, 1e-12);
@@ -390,10 +402,7 @@ class SquareCostValidAboveThree : public ceres::SizedCostFunction<1, 1, 1> {
 TEST(Marginalization, FallsBackToCurrentJacobiansWhereFirstEstimateCannotBeEvaluated) {
   ceres::Problem problem;
   double x = 1.0, y = 2.0, z = 0.5;
-  problem.AddResidualBlock(new LinearCost(Eigen::MatrixXd::Ones(1, 2), 3.0 * Eigen::VectorXd::Ones(1), {1, 1}),
-                           nullptr, &x, &y);
-  problem.AddResidualBlock(new LinearCost(Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Zero(1), {1}),
-                           nullptr, &x);
+  addSumAndAnchorResiduals(problem, &x, &y);
   Marginalizer marginalizer;
   ASSERT_NE(marginalizer.marginalize(problem, {&x}), nullptr);  // y's first estimate: 2
   y = 4.0;
@@ -407,12 +416,9 @@ TEST(Marginalization, FallsBackToCurrentJacobiansWhereFirstEstimateCannotBeEvalu
   EXPECT_EQ(stats.num_unevaluable_residual_blocks, 0);
   // Rows [∂r/∂z ∂r/∂y] = [1 2y] = [1 8] and [1 0]: H_zz = 2, H_zy = 8, H_yy = 64, so the
   // information on y is 64 − 8²/2 = 32 (the first-estimate point y = 2 would give 8).
-  ceres::Problem::EvaluateOptions eval;
-  eval.residual_blocks = {prior};
-  eval.parameter_blocks = {&y};
-  const Eigen::MatrixXd J = denseJacobian(problem, eval);
-  ASSERT_EQ(J.cols(), 1);
-  EXPECT_NEAR((J.transpose() * J)(0, 0), 32.0, 1e-9);
+  const Eigen::MatrixXd information = priorInformation(problem, prior, {&y});
+  ASSERT_EQ(information.cols(), 1);
+  EXPECT_NEAR(information(0, 0), 32.0, 1e-9);
 }
 
 }  // namespace

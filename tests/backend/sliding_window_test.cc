@@ -210,6 +210,34 @@ TEST(SlidingWindow, OptimizeDropsResidualsInvalidatedByAnEdit) {
   const WindowSolveSummary summary = window->optimize();
   EXPECT_LT(summary.num_residuals, before);
 }
+// The ground-truth window with every inverse distance off by −10, 0 or +10 % and the newest
+// keyframe moved by 1 cm and 0.5°: the start of the bit-for-bit comparisons below.
+std::unique_ptr<SlidingWindow> perturbedWindow(const Camera& camera, const WindowScene& ws,
+                                               const WindowOptions& options, int num_keyframes) {
+  std::map<int, double> true_d;
+  auto window = groundTruthWindow(camera, ws, options, 24, &true_d);
+  for (const auto& [id, d] : true_d)
+    window->mutablePoint(id).inverse_distance = d * (1.0 + 0.1 * (id % 3 - 1));
+  WindowKeyframe& kf = window->mutableKeyframe(num_keyframes - 1);
+  test::moveInCamera(kf.T_world_cam(), Eigen::Vector3d(0.01, 0, 0), Eigen::Vector3d(0.5, 0, 0))
+      .toParameters(kf.pose.data());
+  return window;
+}
+
+// Keyframes (pose and affine), intrinsics and points equal bit for bit.
+void expectSameStateBitForBit(const SlidingWindow& a, const SlidingWindow& b) {
+  ASSERT_EQ(a.keyframeIds(), b.keyframeIds());
+  for (int id : a.keyframeIds()) {
+    EXPECT_EQ(a.keyframe(id).pose, b.keyframe(id).pose) << "keyframe " << id;
+    EXPECT_EQ(a.keyframe(id).affine, b.keyframe(id).affine) << "keyframe " << id;
+  }
+  EXPECT_EQ(a.intrinsics(), b.intrinsics());
+  ASSERT_EQ(a.numPoints(), b.numPoints());
+  auto it = b.points().begin();
+  for (const auto& [id, point] : a.points())
+    EXPECT_EQ(point->inverse_distance, (it++)->second->inverse_distance) << "point " << id;
+}
+
 // Two windows built from the same data in one process, with unrelated allocations in between
 // (another heap layout), solve to the same state bit for bit: the solver's block order does
 // not follow heap addresses (parameter_slots.hpp, per-keyframe ordering groups).
@@ -220,12 +248,7 @@ TEST(SlidingWindow, SolvesBitForBitIndependentlyOfTheHeapLayout) {
   WindowOptions options = recoveryOptions(num_keyframes, true);
   options.max_iterations = 3;
   auto solvePerturbed = [&] {
-    std::map<int, double> true_d;
-    auto window = groundTruthWindow(camera, ws, options, 24, &true_d);
-    for (const auto& [id, d] : true_d) window->mutablePoint(id).inverse_distance = d * (1.0 + 0.1 * (id % 3 - 1));
-    WindowKeyframe& kf = window->mutableKeyframe(num_keyframes - 1);
-    test::moveInCamera(kf.T_world_cam(), Eigen::Vector3d(0.01, 0, 0), Eigen::Vector3d(0.5, 0, 0))
-        .toParameters(kf.pose.data());
+    auto window = perturbedWindow(camera, ws, options, num_keyframes);
     window->optimize();
     return window;
   };
@@ -233,12 +256,7 @@ TEST(SlidingWindow, SolvesBitForBitIndependentlyOfTheHeapLayout) {
   std::vector<std::unique_ptr<double[]>> clutter;
   for (int i = 0; i < 1000; ++i) clutter.emplace_back(new double[1 + i % 37]);
   const auto second = solvePerturbed();
-  ASSERT_EQ(first->numPoints(), second->numPoints());
-  for (int k = 0; k < num_keyframes; ++k)
-    EXPECT_EQ(first->keyframe(k).pose, second->keyframe(k).pose) << "keyframe " << k;
-  EXPECT_EQ(first->intrinsics(), second->intrinsics());
-  auto it = second->points().begin();
-  for (const auto& [id, point] : first->points()) EXPECT_EQ(point->inverse_distance, (it++)->second->inverse_distance);
+  expectSameStateBitForBit(*first, *second);
 }
 
 // Reusing evaluations (evaluation_reuse.hpp) changes no bit: the same perturbed window,
@@ -251,13 +269,7 @@ TEST(SlidingWindow, ReusingEvaluationsChangesNoBit) {
     WindowOptions options = recoveryOptions(num_keyframes, true);
     options.max_iterations = 2;
     options.reuse_evaluations = reuse;
-    std::map<int, double> true_d;
-    auto window = groundTruthWindow(camera, ws, options, 24, &true_d);
-    for (const auto& [id, d] : true_d)
-      window->mutablePoint(id).inverse_distance = d * (1.0 + 0.1 * (id % 3 - 1));
-    WindowKeyframe& kf = window->mutableKeyframe(num_keyframes - 1);
-    test::moveInCamera(kf.T_world_cam(), Eigen::Vector3d(0.01, 0, 0), Eigen::Vector3d(0.5, 0, 0))
-        .toParameters(kf.pose.data());
+    auto window = perturbedWindow(camera, ws, options, num_keyframes);
     const WindowSolveSummary first = window->optimize();
     // The limit reached with every step accepted (Ceres counts iteration 0 as one).
     EXPECT_EQ(first.successful_iterations, 3);
@@ -266,18 +278,7 @@ TEST(SlidingWindow, ReusingEvaluationsChangesNoBit) {
     window->optimize();
     return window;
   };
-  const auto plain = solve(false);
-  const auto reusing = solve(true);
-  ASSERT_EQ(plain->keyframeIds(), reusing->keyframeIds());
-  for (int id : plain->keyframeIds()) {
-    EXPECT_EQ(plain->keyframe(id).pose, reusing->keyframe(id).pose) << "keyframe " << id;
-    EXPECT_EQ(plain->keyframe(id).affine, reusing->keyframe(id).affine) << "keyframe " << id;
-  }
-  EXPECT_EQ(plain->intrinsics(), reusing->intrinsics());
-  ASSERT_EQ(plain->numPoints(), reusing->numPoints());
-  auto it = reusing->points().begin();
-  for (const auto& [id, point] : plain->points())
-    EXPECT_EQ(point->inverse_distance, (it++)->second->inverse_distance);
+  expectSameStateBitForBit(*solve(false), *solve(true));
 }
 
 // Intrinsics perturbed by 1 % (every parameter, in the sign pattern given) with poses,
