@@ -39,14 +39,14 @@ bool evaluateJacobian(const ceres::Problem& problem, const std::vector<int>& tan
   double cost = 0.0;
   if (!problem.EvaluateResidualBlock(block.id, true, &cost, residuals.data(), pointers.data()))
     return false;
-  RowMatrix J(n, block.jacobian_cols);
+  block.jacobian.resize(static_cast<size_t>(n) * block.jacobian_cols);
+  Eigen::Map<RowMatrix> J(block.jacobian.data(), n, block.jacobian_cols);
   int col = 0;
   for (const RowMatrix& part : parts) {
     if (part.size() == 0) continue;  // a constant block
     J.middleCols(col, part.cols()) = part;
     col += static_cast<int>(part.cols());
   }
-  block.jacobian.assign(J.data(), J.data() + J.size());
   return true;
 }
 

@@ -25,6 +25,8 @@
 #include <memory>
 #include <vector>
 
+#include "omnidso/residuals/zero_jacobians.hpp"
+
 namespace omnidso {
 
 class OutOfBoundsPenalty final : public ceres::CostFunction {
@@ -41,11 +43,7 @@ class OutOfBoundsPenalty final : public ceres::CostFunction {
                 double** jacobians) const override {
     if (inner_->Evaluate(parameters, residuals, jacobians)) return true;
     std::fill(residuals, residuals + num_residuals(), penalty_);
-    if (jacobians) {
-      const std::vector<int32_t>& sizes = parameter_block_sizes();
-      for (size_t i = 0; i < sizes.size(); ++i)
-        if (jacobians[i]) std::fill(jacobians[i], jacobians[i] + num_residuals() * sizes[i], 0.0);
-    }
+    zeroJacobians(*this, jacobians);
     return true;
   }
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "omnidso/residuals/evaluation_reuse.hpp"
+#include "omnidso/residuals/zero_jacobians.hpp"
 
 namespace omnidso {
 
@@ -46,9 +47,7 @@ class ReusingCostFunction final : public ceres::CostFunction {
     } else if (!inner_->Evaluate(parameters, residuals, nullptr)) {
       return false;
     }
-    const std::vector<int32_t>& sizes = parameter_block_sizes();
-    for (size_t i = 0; i < sizes.size(); ++i)
-      if (jacobians[i]) std::fill_n(jacobians[i], num_residuals() * sizes[i], 0.0);
+    zeroJacobians(*this, jacobians);
     return true;
   }
 
