@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake make pkg-config
+  build-essential cmake make pkg-config ccache
   libeigen3-dev libceres-dev
   libopencv-dev libopencv-contrib-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev
