@@ -33,6 +33,8 @@ void readMetrics(const nlohmann::json& s, RunResult& r) {
   using P = nlohmann::json::json_pointer;
   r.rmse_m = numberAt(s, P("/ate/keyframe_ate/rmse_m"));
   r.rmse_percent_of_path = numberAt(s, P("/ate/keyframe_ate/rmse_percent_of_path"));
+  r.scale_drift_percent =
+      numberAt(s, P("/ate/keyframe_ate/scale_drift/percent_over_sequence"));
   r.tracking_ms = numberAt(s, P("/timing/tracking_ms_per_frame/mean"));
   r.mapping_ms = numberAt(s, P("/timing/mapping_ms_per_keyframe/mean"));
 }
@@ -98,6 +100,7 @@ nlohmann::json toJson(const RunResult& r) {
           {"wall_s", r.wall_s},
           {"rmse_m", optionalJson(r.rmse_m)},
           {"rmse_percent_of_path", optionalJson(r.rmse_percent_of_path)},
+          {"scale_drift_percent", optionalJson(r.scale_drift_percent)},
           {"tracking_ms_per_frame", optionalJson(r.tracking_ms)},
           {"mapping_ms_per_keyframe", optionalJson(r.mapping_ms)},
           {"settings", r.settings}};
@@ -113,6 +116,7 @@ RunResult runResultFromJson(const nlohmann::json& j) {
   r.wall_s = j.value("wall_s", 0.0);
   r.rmse_m = numberAt(j, P("/rmse_m"));
   r.rmse_percent_of_path = numberAt(j, P("/rmse_percent_of_path"));
+  r.scale_drift_percent = numberAt(j, P("/scale_drift_percent"));
   r.tracking_ms = numberAt(j, P("/tracking_ms_per_frame"));
   r.mapping_ms = numberAt(j, P("/mapping_ms_per_keyframe"));
   r.settings = j.at("settings");

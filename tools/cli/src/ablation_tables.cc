@@ -78,7 +78,8 @@ AblationTable tableRmse(const Axes& axes, const std::vector<CellSummary>& cells)
   AblationTable t{"table1_rmse.csv",
                   "Table I: keyframe ATE RMSE per sequence and method",
                   fmt::format("Keyframe ATE RMSE after Sim(3) alignment, in metres and in % of "
-                              "the ground-truth path, at N_f = {}.",
+                              "the ground-truth path, and the scale drift (change of the local "
+                              "scale over the run, %; `omnidso eval` explains it), at N_f = {}.",
                               reference),
                   {},
                   {}};
@@ -86,9 +87,11 @@ AblationTable tableRmse(const Axes& axes, const std::vector<CellSummary>& cells)
   t.csv.header = {"dataset"};
   for (const std::string& model : axes.camera_models) {
     t.markdown.header.insert(t.markdown.header.end(),
-                             {model + " RMSE [m]", model + " [% of path]"});
-    t.csv.header.insert(t.csv.header.end(), {model + " rmse_m", model + " runs_used",
-                                             model + " runs", model + " rmse_percent_of_path"});
+                             {model + " RMSE [m]", model + " [% of path]",
+                              model + " scale drift [%]"});
+    t.csv.header.insert(t.csv.header.end(),
+                        {model + " rmse_m", model + " runs_used", model + " runs",
+                         model + " rmse_percent_of_path", model + " scale_drift_percent"});
   }
   for (const std::string& dataset : axes.datasets) {
     std::vector<std::string> md{dataset}, csv{dataset};
@@ -96,10 +99,13 @@ AblationTable tableRmse(const Axes& axes, const std::vector<CellSummary>& cells)
       const CellSummary* c = findCell(cells, dataset, model, reference);
       const Measured rmse = measured(c, &CellSummary::rmse_m);
       const Measured percent = measured(c, &CellSummary::rmse_percent_of_path);
+      const Measured drift = measured(c, &CellSummary::scale_drift_percent);
       md.push_back(display(rmse, 4));
       md.push_back(percent.value ? number(*percent.value, 2) : display(percent, 2));
+      md.push_back(drift.value ? number(*drift.value, 2) : display(drift, 2));
       for (const std::string& f : csvFields(rmse)) csv.push_back(f);
       csv.push_back(plain(percent.value));
+      csv.push_back(plain(drift.value));
     }
     t.markdown.rows.push_back(md);
     t.csv.rows.push_back(csv);
@@ -247,7 +253,7 @@ CellSummary summarizeCell(const AblationCell& cell, std::vector<RunResult> runs)
   CellSummary s;
   s.cell = cell;
   s.runs = std::move(runs);
-  std::vector<double> rmse, percent, tracking, mapping;
+  std::vector<double> rmse, percent, drift, tracking, mapping;
   std::vector<std::pair<double, size_t>> by_rmse;
   for (size_t i = 0; i < s.runs.size(); ++i) {
     const RunResult& r = s.runs[i];
@@ -258,11 +264,13 @@ CellSummary summarizeCell(const AblationCell& cell, std::vector<RunResult> runs)
       by_rmse.push_back({*r.rmse_m, i});
     }
     if (r.rmse_percent_of_path) percent.push_back(*r.rmse_percent_of_path);
+    if (r.scale_drift_percent) drift.push_back(*r.scale_drift_percent);
     if (r.tracking_ms) tracking.push_back(*r.tracking_ms);
     if (r.mapping_ms) mapping.push_back(*r.mapping_ms);
   }
   s.rmse_m = medianOf(rmse);
   s.rmse_percent_of_path = medianOf(percent);
+  s.scale_drift_percent = medianOf(drift);
   s.tracking_ms = medianOf(tracking);
   s.mapping_ms = medianOf(mapping);
   if (!by_rmse.empty()) {

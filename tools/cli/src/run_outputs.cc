@@ -6,6 +6,8 @@
 #include <omnidso/cli/run_outputs.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/metrics.hpp>
+#include <omnidso/core/scale_drift.hpp>
+#include <omnidso/cli/scale_drift_json.hpp>
 #include <omnidso/core/trajectory_io.hpp>
 #include <omnidso/synth/dataset_loading.hpp>
 
@@ -49,6 +51,8 @@ nlohmann::json evaluateSegment(const Trajectory& gt, const Trajectory& est, doub
     j["gt_path_length_m"] = length;
     if (length > 0) j["rmse_percent_of_path"] = 100.0 * r.ate.rmse / length;
     j["sim3_scale"] = r.alignment.scale();
+    if (const auto drift = computeScaleDrift(gt, est, r, defaultScaleDriftWindow(r.gt_length_m)))
+      j["scale_drift"] = scaleDriftJson(*drift);
   } catch (const Error& e) {
     j["error"] = e.what();
   }
@@ -209,6 +213,14 @@ void printRunSummary(std::ostream& os, const nlohmann::json& s) {
                             ? a["rmse_percent_of_path"].get<double>()
                             : 0.0,
                         a["gt_path_length_m"].get<double>());
+      if (a.contains("scale_drift")) {
+        const auto& d = a["scale_drift"];
+        os << fmt::format("scale drift (window {:.2f} m): {:+.2f} % over the sequence, {:+.2f} % "
+                          "per 10 m; local scale {:.3f} … {:.3f}\n",
+                          d["window_m"].get<double>(), d["percent_over_sequence"].get<double>(),
+                          d["percent_per_10m"].get<double>(), d["min_ratio"].get<double>(),
+                          d["max_ratio"].get<double>());
+      }
     } else {
       os << "keyframe ATE: " << a["error"].get<std::string>() << "\n";
     }

@@ -26,6 +26,8 @@ struct RunResult {
   // From summary.json when it has them (failed runs may too; they are not used).
   std::optional<double> rmse_m;  // keyframe ATE RMSE after Sim(3) alignment
   std::optional<double> rmse_percent_of_path;
+  // Change of the local scale over the run, % (omnidso/core/scale_drift.hpp).
+  std::optional<double> scale_drift_percent;
   std::optional<double> tracking_ms;  // mean per frame
   std::optional<double> mapping_ms;   // mean per keyframe
   nlohmann::json settings;            // PlannedRun::settings

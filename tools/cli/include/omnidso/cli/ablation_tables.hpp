@@ -33,7 +33,8 @@ struct CellSummary {
   std::vector<RunResult> runs;  // in run order
   size_t succeeded = 0;
   // Medians over the successful runs (each column its own median).
-  std::optional<double> rmse_m, rmse_percent_of_path, tracking_ms, mapping_ms;
+  std::optional<double> rmse_m, rmse_percent_of_path, scale_drift_percent, tracking_ms,
+      mapping_ms;
   // Index into runs of the successful run with the median RMSE (the lower of the two
   // middle ones for an even count): the run drawn in the plots.
   std::optional<size_t> median_run;
