@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <omnidso/cameras/rectification.hpp>
 #include <thread>
 #include <omnidso/cli/dataset_runner.hpp>
@@ -10,8 +12,32 @@
 
 namespace omnidso::cli {
 
+std::optional<double> parseNativeFov(const std::string& text) {
+  const std::string prefix = "native-fov:";
+  if (text.rfind(prefix, 0) != 0) return std::nullopt;
+  try {
+    size_t used = 0;
+    const double fov = std::stod(text.substr(prefix.size()), &used);
+    if (used == text.size() - prefix.size() && fov > 1.0 && fov <= 360.0) return fov;
+  } catch (const std::exception&) {
+  }
+  throw Error("--camera-model: expected 'native-fov:FOV_DEG' with 1 < FOV <= 360, got '" + text + "'");
+}
+
+Mask viewAngleMask(const Camera& camera, double fov_deg) {
+  Mask mask(camera.width(), camera.height());
+  const double max_angle = 0.5 * fov_deg * M_PI / 180.0;
+  for (int v = 0; v < camera.height(); ++v)
+    for (int u = 0; u < camera.width(); ++u) {
+      Eigen::Vector3d bearing;
+      mask(u, v) = camera.unproject(Eigen::Vector2d(u, v), bearing) &&
+                   std::acos(std::clamp(bearing.z(), -1.0, 1.0)) <= max_angle;
+    }
+  return mask;
+}
+
 std::optional<double> parsePinholeCrop(const std::string& text) {
-  if (text == "native") return std::nullopt;
+  if (text == "native" || parseNativeFov(text)) return std::nullopt;
   const std::string prefix = "pinhole-crop:";
   if (text.rfind(prefix, 0) == 0) {
     try {
@@ -21,7 +47,8 @@ std::optional<double> parsePinholeCrop(const std::string& text) {
     } catch (const std::exception&) {
     }
   }
-  throw Error("--camera-model: expected 'native' or 'pinhole-crop:FOV_DEG' with 1 < FOV < 179, got '" +
+  throw Error("--camera-model: expected 'native', 'native-fov:FOV_DEG' or 'pinhole-crop:FOV_DEG' "
+              "with 1 < FOV < 179, got '" +
               text + "'");
 }
 
@@ -36,6 +63,12 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
   if (crop_fov || source.hasDistortion()) {
     rectification = makeRectificationMap(source, camera);
     image_mask = validMask(*rectification);
+  }
+  if (const std::optional<double> fov = parseNativeFov(options.camera_model)) {
+    Mask within = viewAngleMask(camera, *fov);
+    if (!image_mask.empty())
+      for (size_t i = 0; i < within.size(); ++i) within.data()[i] &= image_mask.data()[i];
+    image_mask = std::move(within);
   }
   const PhotometricCalibration photometric = PhotometricCalibration::fromFiles(
       index.pcalib_path.value_or(""), index.vignette_path.value_or(""));
