@@ -32,7 +32,9 @@ namespace omnidso {
 struct OdometryOptions {
   int num_points = 2000;         // active points aimed at in the window
   int num_candidates = 2000;     // immature points selected per keyframe
-  int pyramid_levels = 5;
+  // Levels of every image pyramid (tracking, initialisation); 0: pyramidLevelsForImage of
+  // the camera's image size (core/pyramid.hpp), which also caps tracker.num_levels.
+  int pyramid_levels = 0;
   std::uint64_t seed = 0;
   WindowOptions window;
   CoarseTrackerOptions tracker;
@@ -42,6 +44,9 @@ struct OdometryOptions {
   InitializerOptions initializer;
   double max_activation_interval_px = 8.0;  // immature point converged enough to activate
   double min_activation_quality = 3.0;
+  // Converged candidates are optimised against every window keyframe before activation;
+  // unobserved ones wait, inconsistent ones are dropped (new_point_refinement.hpp).
+  NewPointRefinementOptions activation;
   int max_keyframe_interval_frames = 0;      // > 0: force a keyframe after this many frames
   // Real-time mode: mapping (epipolar search, keyframes, window, marginalisation) in its own
   // thread while addFrame tracks the next frames; a lagging mapper skips the search in
