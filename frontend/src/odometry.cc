@@ -5,6 +5,7 @@
 #include <map>
 #include <mutex>
 #include <omnidso/frontend/mapping_worker.hpp>
+#include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/timing.hpp>
 #include <omnidso/frontend/odometry.hpp>
@@ -65,6 +66,11 @@ struct Odometry::Impl {
     if (options.pyramid_levels <= 0)
       options.pyramid_levels = pyramidLevelsForImage(camera.width(), camera.height());
     options.tracker.num_levels = std::min(options.tracker.num_levels, options.pyramid_levels);
+    // Keep every pyramid level clear of the content's edge (content_mask.hpp): a level-L
+    // sample and its central differences reach 2^L pixels of level 0, the pattern 2 more.
+    if (options.content_margin_px < 0)
+      options.content_margin_px = (1 << options.pyramid_levels) + 3;
+    mask = erodeContent(mask, options.content_margin_px);
     if (options.epipolar.max_search_px <= 0)
       options.epipolar.max_search_px = 0.027 * (camera.width() + camera.height());
     options.window.num_threads = std::max(1, options.window.num_threads);

@@ -4,6 +4,7 @@
 #include <omnidso/cameras/rectification.hpp>
 #include <thread>
 #include <omnidso/cli/dataset_runner.hpp>
+#include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/image_io.hpp>
 #include <omnidso/core/photometric_calibration.hpp>
@@ -63,6 +64,27 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
   if (crop_fov || source.hasDistortion()) {
     rectification = makeRectificationMap(source, camera);
     image_mask = validMask(*rectification);
+  }
+  if (options.detect_content && !index.frames.empty()) {
+    // The black surround of a fisheye's image circle (content_mask.hpp), from the brightest
+    // value of each pixel over the first frames, mapped through the rectification if any.
+    std::vector<RawImage> first;
+    for (size_t i = 0; i < std::min<size_t>(5, index.frames.size()); ++i)
+      first.push_back(readRawImage(index.frames[i].image_path));
+    std::vector<const ImageU16*> pixels;
+    for (const RawImage& r : first)
+      if (r.pixels.width() == source.width() && r.pixels.height() == source.height())
+        pixels.push_back(&r.pixels);
+    if (!pixels.empty()) {
+      const int full_scale = (1 << first.front().bit_depth) - 1;
+      Mask content = detectContentMask(pixels, static_cast<int>(0.02 * full_scale));
+      if (rectification) content = remap(content, *rectification);  // 0 where any source pixel is 0 nearby
+      if (image_mask.empty()) {
+        image_mask = std::move(content);
+      } else {
+        for (size_t i = 0; i < image_mask.size(); ++i) image_mask.data()[i] &= content.data()[i];
+      }
+    }
   }
   if (const std::optional<double> fov = parseNativeFov(options.camera_model)) {
     Mask within = viewAngleMask(camera, *fov);

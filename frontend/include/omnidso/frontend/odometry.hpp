@@ -35,6 +35,10 @@ struct OdometryOptions {
   // Levels of every image pyramid (tracking, initialisation); 0: pyramidLevelsForImage of
   // the camera's image size (core/pyramid.hpp), which also caps tracker.num_levels.
   int pyramid_levels = 0;
+  // Pixels this close to a pixel without content (outside the camera's domain or the image
+  // mask, e.g. the black surround of a fisheye's image circle) are not used; −1: 2^levels + 3,
+  // the reach of the coarsest level (core/content_mask.hpp says why).
+  int content_margin_px = -1;
   std::uint64_t seed = 0;
   WindowOptions window;
   CoarseTrackerOptions tracker;
@@ -95,8 +99,10 @@ struct OdometryPoint {
 class Odometry {
  public:
   // camera: distortion-free model (pinhole, ucm, eucm, ds, kb4) of the images passed in.
-  // image_mask (optional, camera-sized): pixels without image content (e.g. outside the
-  // source image after rectification); combined with the camera's own validity mask.
+  // image_mask (optional, camera-sized): 0 marks pixels without image content (outside the
+  // source image after rectification, or outside a fisheye's image circle:
+  // detectContentMask); combined with the camera's own validity mask, then eroded by
+  // OdometryOptions::content_margin_px.
   Odometry(const Camera& camera, OdometryOptions options = {}, const Mask& image_mask = Mask());
   ~Odometry();
 

@@ -20,6 +20,9 @@ struct DatasetRunOptions {
   std::string camera_model = "native";
   std::string calib;                    // overrides the dataset's calibration file
   size_t max_frames = 0;                // 0: all
+  // Mask the black surround of a fisheye's image circle, detected in the first frames
+  // (core/content_mask.hpp).
+  bool detect_content = true;
   // Real-time mode only: frames are fed at their timestamps' pace times this factor, as a
   // camera would deliver them (0: as fast as they can be read).
   double playback_speed = 1.0;
