@@ -62,10 +62,14 @@ TEST(ScaleDrift, RecoversAKnownExponentialShrinkage) {
     est.push_back({gt[k].timestamp, SE3d(Eigen::Quaterniond::Identity(),
                                          est.back().pose.translation() + Eigen::Vector3d(step, 0, 0))});
   }
-  // A straight line is degenerate for a 3-D rotation, not for the scale: Umeyama still
-  // recovers s from the spread along x.
-  const EvaluationResult r = evaluateSim3(gt, est);
-  const auto drift = computeScaleDrift(gt, est, r, 1.0);
+  // A straight line leaves the Sim(3) rotation undetermined, so the alignment is given
+  // directly: identity with unit scale, pose k with pose k.
+  EvaluationResult r;
+  for (size_t k = 0; k < gt.size(); ++k) r.association.emplace_back(k, k);
+  r.gt_length_m = length;
+  // Δ = 0.99 m, not a multiple of the 2 cm step: every chord spans exactly 50 steps (with
+  // Δ = 1 m rounding picks 50 or 51, and the chord factor would vary by a few 1e-5).
+  const auto drift = computeScaleDrift(gt, est, r, 0.99);
   ASSERT_TRUE(drift.has_value());
   EXPECT_NEAR(drift->percent_over_sequence, -50.0, 1e-6);
   EXPECT_NEAR(drift->percent_per_10m, 100.0 * std::expm1(10.0 * beta), 1e-6);
