@@ -53,38 +53,39 @@ Mask detectContentMask(const std::vector<const ImageU16*>& frames, int black_lev
   return content;
 }
 
+namespace {
+
+// One pass of the separable erosion along lines of `length` pixels: out[i] = 1 when no zero
+// of `in` lies within ±radius of i on its line. at(line, i) gives the pixel's index.
+template <typename Index>
+void erodeLines(const Mask& in, Mask& out, int lines, int length, int radius, Index at) {
+  std::vector<int> next_hole(static_cast<size_t>(length));
+  for (int line = 0; line < lines; ++line) {
+    int next = 1 << 30;
+    for (int i = length - 1; i >= 0; --i) {
+      if (!in.data()[at(line, i)]) next = i;
+      next_hole[static_cast<size_t>(i)] = next;
+    }
+    int last_hole = -(1 << 30);
+    for (int i = 0; i < length; ++i) {
+      if (!in.data()[at(line, i)]) last_hole = i;
+      out.data()[at(line, i)] =
+          (i - last_hole > radius && next_hole[static_cast<size_t>(i)] - i > radius) ? 1 : 0;
+    }
+  }
+}
+
+}  // namespace
+
 Mask erodeContent(const Mask& content, int radius) {
-  const int w = content.width(), h = content.height();
   if (radius <= 0) return content;
-  // Separable: a pixel survives when no non-content pixel lies within ±radius along rows,
-  // then along columns (the Chebyshev ball).
+  const int w = content.width(), h = content.height();
+  // Erosion by the (2r+1)² square = along rows, then along columns.
   Mask rows(w, h), out(w, h);
-  for (int v = 0; v < h; ++v) {
-    int last_hole = -1000000;  // column of the last non-content pixel seen from the left
-    std::vector<int> next_hole(static_cast<size_t>(w), 1000000);
-    int next = 1000000;
-    for (int u = w - 1; u >= 0; --u) {
-      if (!content(u, v)) next = u;
-      next_hole[static_cast<size_t>(u)] = next;
-    }
-    for (int u = 0; u < w; ++u) {
-      if (!content(u, v)) last_hole = u;
-      rows(u, v) = (u - last_hole > radius && next_hole[static_cast<size_t>(u)] - u > radius) ? 1 : 0;
-    }
-  }
-  for (int u = 0; u < w; ++u) {
-    int last_hole = -1000000;
-    std::vector<int> next_hole(static_cast<size_t>(h), 1000000);
-    int next = 1000000;
-    for (int v = h - 1; v >= 0; --v) {
-      if (!rows(u, v)) next = v;
-      next_hole[static_cast<size_t>(v)] = next;
-    }
-    for (int v = 0; v < h; ++v) {
-      if (!rows(u, v)) last_hole = v;
-      out(u, v) = (v - last_hole > radius && next_hole[static_cast<size_t>(v)] - v > radius) ? 1 : 0;
-    }
-  }
+  erodeLines(content, rows, h, w, radius,
+             [w](int v, int u) { return static_cast<size_t>(v) * w + u; });
+  erodeLines(rows, out, w, h, radius,
+             [w](int u, int v) { return static_cast<size_t>(v) * w + u; });
   return out;
 }
 
