@@ -80,6 +80,13 @@ bool canConnect(int port) {
   return ok;
 }
 
+void writeFile(const fs::path& path, const std::string& text, fs::perms perms) {
+  std::ofstream(path) << text;
+  fs::permissions(path, perms);
+}
+
+}  // namespace
+
 std::string commandOutput(const std::string& command) {
   FILE* pipe = ::popen(command.c_str(), "r");
   std::string out;
@@ -87,13 +94,6 @@ std::string commandOutput(const std::string& command) {
   ::pclose(pipe);
   return out;
 }
-
-void writeFile(const fs::path& path, const std::string& text, fs::perms perms) {
-  std::ofstream(path) << text;
-  fs::permissions(path, perms);
-}
-
-}  // namespace
 
 std::string LocalSlurm::unavailableReason() {
   for (const char* program : {"munged", "mariadb-install-db", "mariadbd", "slurmdbd", "slurmctld",
@@ -122,45 +122,67 @@ LocalSlurm::LocalSlurm(const std::string& dir) : dir_(fs::absolute(dir).string()
   writeFile(d / "munge/munge.key", key, fs::perms(0600));
   ctld_port_ = freePort(), slurmd_port_ = freePort(), dbd_port_ = freePort(), db_port_ = freePort();
   const std::string host = hostName(), socket = (d / "socket/munge.socket").string();
-  writeFile(d / "slurm.conf",
-            "ClusterName=omnidsotest\nSlurmctldHost=" + host + "(127.0.0.1)\n"
-            "SlurmctldPort=" + std::to_string(ctld_port_) + "\nSlurmdPort=" + std::to_string(slurmd_port_) +
-            "\nCommunicationParameters=NoInAddrAny,NoCtldInAddrAny\n"
-            "AuthType=auth/munge\nCredType=cred/munge\nAuthInfo=socket=" + socket + "\n"
-            "SlurmUser=root\nSlurmdUser=root\nStateSaveLocation=" + dir_ + "/state\n"
-            "SlurmdSpoolDir=" + dir_ + "/spool\nSlurmctldPidFile=" + dir_ + "/slurmctld.pid\n"
-            "SlurmdPidFile=" + dir_ + "/slurmd.pid\nSlurmctldLogFile=" + dir_ + "/log/slurmctld.log\n"
-            "SlurmdLogFile=" + dir_ + "/log/slurmd.log\nProctrackType=proctrack/linuxproc\n"
-            "TaskPlugin=task/none\nMpiDefault=none\nSelectType=select/cons_tres\n"
-            "SelectTypeParameters=CR_Core\nJobAcctGatherType=jobacct_gather/none\n"
-            "AccountingStorageType=accounting_storage/slurmdbd\nAccountingStorageHost=127.0.0.1\n"
-            "AccountingStoragePort=" + std::to_string(dbd_port_) + "\nAccountingStoragePass=" + socket +
-            "\nReturnToService=2\nKillWait=5\nNodeName=" + host + " NodeAddr=127.0.0.1 CPUs=" +
-            std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
-            " State=UNKNOWN\nPartitionName=debug Nodes=ALL Default=YES MaxTime=INFINITE State=UP\n",
-            fs::perms(0644));
+  writeFile(
+      d / "slurm.conf",
+      "ClusterName=omnidsotest\nSlurmctldHost=" + host +
+          "(127.0.0.1)\n"
+          "SlurmctldPort=" +
+          std::to_string(ctld_port_) + "\nSlurmdPort=" + std::to_string(slurmd_port_) +
+          "\nCommunicationParameters=NoInAddrAny,NoCtldInAddrAny\n"
+          "AuthType=auth/munge\nCredType=cred/munge\nAuthInfo=socket=" +
+          socket +
+          "\n"
+          "SlurmUser=root\nSlurmdUser=root\nStateSaveLocation=" +
+          dir_ +
+          "/state\n"
+          "SlurmdSpoolDir=" +
+          dir_ + "/spool\nSlurmctldPidFile=" + dir_ +
+          "/slurmctld.pid\n"
+          "SlurmdPidFile=" +
+          dir_ + "/slurmd.pid\nSlurmctldLogFile=" + dir_ +
+          "/log/slurmctld.log\n"
+          "SlurmdLogFile=" +
+          dir_ +
+          "/log/slurmd.log\nProctrackType=proctrack/linuxproc\n"
+          "TaskPlugin=task/none\nMpiDefault=none\nSelectType=select/cons_tres\n"
+          "SelectTypeParameters=CR_Core\nJobAcctGatherType=jobacct_gather/none\n"
+          "AccountingStorageType=accounting_storage/slurmdbd\nAccountingStorageHost=127.0.0.1\n"
+          "AccountingStoragePort=" +
+          std::to_string(dbd_port_) + "\nAccountingStoragePass=" + socket +
+          "\nReturnToService=2\nKillWait=5\nNodeName=" + host + " NodeAddr=127.0.0.1 CPUs=" +
+          std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
+          " State=UNKNOWN\nPartitionName=debug Nodes=ALL Default=YES MaxTime=INFINITE State=UP\n",
+      fs::perms(0644));
   writeFile(d / "slurmdbd.conf",
-            "AuthType=auth/munge\nAuthInfo=socket=" + socket + "\nDbdHost=localhost\n"
-            "DbdAddr=127.0.0.1\nDbdPort=" + std::to_string(dbd_port_) + "\nSlurmUser=root\n"
-            "LogFile=" + dir_ + "/log/slurmdbd.log\nPidFile=" + dir_ + "/slurmdbd.pid\n"
-            "StorageType=accounting_storage/mysql\nStorageHost=127.0.0.1\nStoragePort=" +
-            std::to_string(db_port_) + "\nStorageUser=root\nStorageLoc=slurm_acct_db\n"
-            "CommunicationParameters=NoInAddrAny\n",
+            "AuthType=auth/munge\nAuthInfo=socket=" + socket +
+                "\nDbdHost=localhost\n"
+                "DbdAddr=127.0.0.1\nDbdPort=" +
+                std::to_string(dbd_port_) +
+                "\nSlurmUser=root\n"
+                "LogFile=" +
+                dir_ + "/log/slurmdbd.log\nPidFile=" + dir_ +
+                "/slurmdbd.pid\n"
+                "StorageType=accounting_storage/mysql\nStorageHost=127.0.0.1\nStoragePort=" +
+                std::to_string(db_port_) +
+                "\nStorageUser=root\nStorageLoc=slurm_acct_db\n"
+                "CommunicationParameters=NoInAddrAny\n",
             fs::perms(0600));  // slurmdbd refuses a readable one
   had_conf_ = std::getenv("SLURM_CONF") != nullptr;
   if (had_conf_) previous_conf_ = std::getenv("SLURM_CONF");
   ::setenv("SLURM_CONF", (d / "slurm.conf").c_str(), 1);  // slurmdbd finds its file beside it
 
   try {
-    start("munged", {findProgram("munged"), "-F", "--key-file=" + dir_ + "/munge/munge.key",
-                     "--socket=" + socket, "--pid-file=" + dir_ + "/munge/munged.pid",
-                     "--log-file=" + dir_ + "/log/munged.log", "--seed-file=" + dir_ + "/munge/seed"});
-    waitUntil("munged", 20, [](const LocalSlurm& s) {
-      return fs::exists(s.dir_ + "/socket/munge.socket");
-    });
-    const std::string install = findProgram("mariadb-install-db") + " --no-defaults --datadir=" +
-                                dir_ + "/db/data --user=root --auth-root-authentication-method=normal"
-                                " --skip-test-db > " + dir_ + "/log/mariadb-install.log 2>&1";
+    start("munged",
+          {findProgram("munged"), "-F", "--key-file=" + dir_ + "/munge/munge.key",
+           "--socket=" + socket, "--pid-file=" + dir_ + "/munge/munged.pid",
+           "--log-file=" + dir_ + "/log/munged.log", "--seed-file=" + dir_ + "/munge/seed"});
+    waitUntil("munged", 20,
+              [](const LocalSlurm& s) { return fs::exists(s.dir_ + "/socket/munge.socket"); });
+    const std::string install = findProgram("mariadb-install-db") +
+                                " --no-defaults --datadir=" + dir_ +
+                                "/db/data --user=root --auth-root-authentication-method=normal"
+                                " --skip-test-db > " +
+                                dir_ + "/log/mariadb-install.log 2>&1";
     if (std::system(install.c_str()) != 0)
       throw std::runtime_error("mariadb-install-db failed:\n" + logTail("mariadb-install"));
     // No network beyond loopback, no grant tables: slurmdbd logs in without a password.

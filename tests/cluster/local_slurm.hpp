@@ -16,6 +16,9 @@
 
 namespace omnidso::test {
 
+// What `command` (run by /bin/sh) prints on stdout.
+std::string commandOutput(const std::string& command);
+
 class LocalSlurm {
  public:
   // Why this machine cannot run the cluster (a missing program, not root, ...); empty if it can.

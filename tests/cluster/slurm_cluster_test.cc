@@ -1,8 +1,8 @@
 // `omnidso ablate --executor slurm` against a real Slurm started on this machine (label
 // `slow`; `make test-slurm` installs Slurm and runs it; skipped with the reason when Slurm is
-// not installed). A tiny rendered sequence, one camera model, N_f 5 and 3, two seeds: four
-// `omnidso run`s, deterministic (--threads 1). The same grid runs once with the local
-// executor and once through Slurm, where array task 0 is cancelled (scancel) while it runs:
+// not installed). A tiny rendered sequence (30 frames, 120×120), one camera model, N_f 5 and
+// 3, two seeds: four `omnidso run`s, deterministic (--threads 1). The same grid runs once with the
+// local executor and once through Slurm, where array task 0 is cancelled (scancel) while it runs:
 // the run must be reported failed with Slurm's reason, a second submission must run only it,
 // and then Tables I–IV and every run's RMSE must equal the local executor's bit for bit.
 #include <gtest/gtest.h>
@@ -29,14 +29,6 @@ std::string readFile(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-std::string commandOutput(const std::string& command) {
-  FILE* pipe = ::popen(command.c_str(), "r");
-  std::string out;
-  for (int c = std::fgetc(pipe); c != EOF; c = std::fgetc(pipe)) out.push_back(char(c));
-  ::pclose(pipe);
-  return out;
-}
-
 double seconds(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -61,12 +53,16 @@ TEST(SlurmClusterTest, AblationThroughSlurmEqualsTheLocalOneAndACancelledTaskIsR
   test::TempDir dir;
   const std::string omnidso = OMNIDSO_EXECUTABLE;
   const std::string data = dir.file("room");
-  ASSERT_EQ(std::system((omnidso + " synth --preset room185 --frames 40 --size 160x160 --quiet "
-                                   "--out " + data + " > /dev/null").c_str()),
+  ASSERT_EQ(std::system((omnidso +
+                         " synth --preset room185 --frames 30 --size 120x120 --quiet "
+                         "--out " +
+                         data + " > /dev/null")
+                            .c_str()),
             0);
-  const std::string grid = omnidso + " ablate --datasets " + data +
-                           " --camera-models native --keyframes 5,3 --runs 2 --threads 1"
-                           " --timeout 600 --quiet";
+  const std::string grid =
+      omnidso + " ablate --datasets " + data +
+      " --camera-models native --keyframes 5,3 --runs 2 --threads 1 --points 600"
+      " --timeout 600 --quiet";
   const std::string local = dir.file("local"), cluster = dir.file("cluster");
   Clock::time_point start = Clock::now();
   ASSERT_EQ(std::system((grid + " --jobs 2 --out " + local + " > /dev/null 2>&1").c_str()), 0);
@@ -98,21 +94,23 @@ TEST(SlurmClusterTest, AblationThroughSlurmEqualsTheLocalOneAndACancelledTaskIsR
       << runs << readFile(dir.file("first.log"));
   EXPECT_NE(readFile(cluster + "/tables.md").find("(failed 1/2)"), std::string::npos);
   // --collect on the folder says the same without asking Slurm again.
-  ASSERT_EQ(std::system((omnidso + " ablate --collect --out " + cluster + " > /dev/null").c_str()), 0);
+  ASSERT_EQ(std::system((omnidso + " ablate --collect --out " + cluster + " > /dev/null").c_str()),
+            0);
   EXPECT_EQ(readFile(cluster + "/runs.csv"), runs);
 
   // Resubmitted: one array task, the cancelled run; then the tables equal the local ones.
   start = Clock::now();
   ASSERT_EQ(std::system((grid + " --executor slurm --poll-interval 0.5 --out " + cluster + " > " +
-                         dir.file("second.log") + " 2>&1").c_str()),
+                         dir.file("second.log") + " 2>&1")
+                            .c_str()),
             0)
       << readFile(dir.file("second.log"));
   const double second_s = seconds(start);
   const std::string script = readFile(cluster + "/slurm/submission-2/job.sh");
   EXPECT_NE(script.find("#SBATCH --array=0-0\n"), std::string::npos) << script;
   EXPECT_NE(script.find(run0 + " -- "), std::string::npos) << script;
-  for (const char* table : {"table1_rmse.csv", "table2_length.csv",
-                            "table3_rmse_per_keyframes.csv", "table4_rmse_differences.csv"})
+  for (const char* table : {"table1_rmse.csv", "table2_length.csv", "table3_rmse_per_keyframes.csv",
+                            "table4_rmse_differences.csv"})
     EXPECT_EQ(readFile(cluster + "/" + table), readFile(local + "/" + table)) << table;
   EXPECT_EQ(runsWithoutTimes(cluster + "/runs.csv"), runsWithoutTimes(local + "/runs.csv"));
   for (const char* run : {"kf5/run1", "kf5/run2", "kf3/run1", "kf3/run2"}) {  // every bit
@@ -123,10 +121,12 @@ TEST(SlurmClusterTest, AblationThroughSlurmEqualsTheLocalOneAndACancelledTaskIsR
     EXPECT_EQ(a["rmse_m"], b["rmse_m"]) << run;
     EXPECT_EQ(a["settings"], b["settings"]) << run;
   }
-  const std::string sacct = commandOutput("sacct -n -X -P -j " + job + " -o JobID,State,Elapsed");
+  const std::string sacct =
+      test::commandOutput("sacct -n -X -P -j " + job + " -o JobID,State,Elapsed");
   std::cout << "local executor: 4 runs in " << local_s << " s; Slurm: first submission " << first_s
             << " s (task 0 cancelled), resubmission of 1 run " << second_s << " s\n"
-            << "sacct:\n" << sacct;
+            << "sacct:\n"
+            << sacct;
 }
 
 }  // namespace

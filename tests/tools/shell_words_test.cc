@@ -21,9 +21,18 @@ std::vector<std::string> wordsOfShell(const std::string& line) {
   return words;
 }
 
-const std::vector<std::string> kAwkwardArguments = {
-    "/opt/omnidso/bin/omnidso", "run", "/data/my seq", "it's", "a\"b", "$HOME", "`id`", "*",
-    "--set", "photometric.huber=9", "", "x\\y"};
+const std::vector<std::string> kAwkwardArguments = {"/opt/omnidso/bin/omnidso",
+                                                    "run",
+                                                    "/data/my seq",
+                                                    "it's",
+                                                    "a\"b",
+                                                    "$HOME",
+                                                    "`id`",
+                                                    "*",
+                                                    "--set",
+                                                    "photometric.huber=9",
+                                                    "",
+                                                    "x\\y"};
 
 TEST(ShellWordsTest, AShellRunsExactlyTheQuotedArguments) {
   const std::string line = cli::shellCommandLine(kAwkwardArguments);
@@ -33,8 +42,9 @@ TEST(ShellWordsTest, AShellRunsExactlyTheQuotedArguments) {
 }
 
 TEST(ShellWordsTest, SplitsParallelArgumentsLikeAShell) {
-  EXPECT_EQ(cli::splitShellWords("  --sshloginfile 'my hosts'  --delay \"0.5\" -S a\\ b ", "--x"),
-            (std::vector<std::string>{"--sshloginfile", "my hosts", "--delay", "0.5", "-S", "a b"}));
+  EXPECT_EQ(
+      cli::splitShellWords("  --sshloginfile 'my hosts'  --delay \"0.5\" -S a\\ b ", "--x"),
+      (std::vector<std::string>{"--sshloginfile", "my hosts", "--delay", "0.5", "-S", "a b"}));
   EXPECT_TRUE(cli::splitShellWords("   ", "--x").empty());
   EXPECT_THROW(cli::splitShellWords("--sshlogin 'host", "--parallel-args"), Error);
 }

@@ -15,7 +15,8 @@ namespace {
 std::string outputOf(const std::string& command) {
   FILE* pipe = ::popen(command.c_str(), "r");
   std::string out;
-  for (int c = std::fgetc(pipe); c != EOF; c = std::fgetc(pipe)) out.push_back(static_cast<char>(c));
+  for (int c = std::fgetc(pipe); c != EOF; c = std::fgetc(pipe))
+    out.push_back(static_cast<char>(c));
   ::pclose(pipe);
   return out;
 }

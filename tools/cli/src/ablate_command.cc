@@ -117,18 +117,21 @@ DatasetPlots plotInput(const DatasetTruth& truth, const std::vector<CellSummary>
   for (size_t c = 0; c < cells.size(); ++c) {
     const CellSummary& cell = cells[c];
     if (cell.cell.dataset_name != truth.facts.name) continue;
-    const size_t failed = cell.runs.size() - cell.succeeded;
-    const std::string failures =
-        failed ? fmt::format("failed {}/{}", failed, cell.runs.size()) : "";
+    const size_t failed = cell.runs.size() - cell.succeeded - cell.missing;
+    std::string failures = failed ? fmt::format("failed {}/{}", failed, cell.runs.size()) : "";
+    if (cell.missing)
+      failures +=
+          fmt::format("{}missing {}/{}", failed ? ", " : "", cell.missing, cell.runs.size());
     if (!cell.median_run) {
       plots.methods.push_back({cell.cell.method() + ": " + failures, std::nullopt});
       continue;
     }
     const RunResult& r = cell.runs[*cell.median_run];
     const PlannedRun& run = plan.runs[c * runs + (r.run - 1)];
-    PlottedMethod method{fmt::format("{} (run {}, RMSE {:.4f} m{})", cell.cell.method(), r.run,
-                                     r.rmse_m.value_or(0.0), failed ? "; " + failures : ""),
-                         std::nullopt};
+    PlottedMethod method{
+        fmt::format("{} (run {}, RMSE {:.4f} m{})", cell.cell.method(), r.run,
+                    r.rmse_m.value_or(0.0), failures.empty() ? "" : "; " + failures),
+        std::nullopt};
     try {
       method.keyframes = readTrajectoryTum((fs::path(run.directory) / "keyframes.txt").string());
     } catch (const Error& e) {
@@ -187,8 +190,8 @@ std::unique_ptr<AblationExecutor> makeExecutor(const AblateArguments& args,
 bool performPendingRuns(const AblateArguments& args, const AblationManifest& manifest,
                         const AblationPlan& plan, const std::string& out) {
   std::unique_ptr<AblationExecutor> executor = makeExecutor(args, manifest.spec);
-  ExecutionRequest request{&plan, {}, executablePath(args.executable), out, args.timeout_s,
-                           args.jobs, args.quiet};
+  ExecutionRequest request{
+      &plan, {}, executablePath(args.executable), out, args.timeout_s, args.jobs, args.quiet};
   prepareAblationDirectory(out);
   for (size_t i = 0; i < plan.runs.size(); ++i)
     if (!readFinishedRun(plan.runs[i])) request.pending.push_back(i);  // throws: other settings
@@ -222,7 +225,8 @@ void runAblate(const AblateArguments& args) {
   size_t failed = 0, missing = 0;
   for (size_t c = 0; c < plan.cells.size(); ++c) {
     std::vector<RunResult> runs;
-    for (int k = 0; k < spec.runs; ++k) runs.push_back(currentRunState(plan.runs[c * spec.runs + k]));
+    for (int k = 0; k < spec.runs; ++k)
+      runs.push_back(currentRunState(plan.runs[c * spec.runs + k]));
     cells.push_back(summarizeCell(plan.cells[c], std::move(runs)));
     missing += cells.back().missing;
     failed += cells.back().runs.size() - cells.back().succeeded - cells.back().missing;
@@ -262,9 +266,9 @@ void registerAblateCommand(CLI::App& app) {
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
   CLI::Option* jobs = cmd->add_option("--jobs", args->jobs,
-                                       "runs at a time (slurm: the array's %M, only when given)")
-                           ->check(CLI::Range(1, 1000))
-                           ->capture_default_str();
+                                      "runs at a time (slurm: the array's %M, only when given)")
+                          ->check(CLI::Range(1, 1000))
+                          ->capture_default_str();
   cmd->add_option("--timeout", args->timeout_s,
                   "seconds before a run is killed and failed (0: none)")
       ->check(CLI::NonNegativeNumber)
@@ -290,7 +294,8 @@ void registerAblateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--config", p.config, "odometry settings file passed to every run")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--set", p.settings, "odometry setting NAME=VALUE passed to every run (repeatable)");
+  cmd->add_option("--set", p.settings,
+                  "odometry setting NAME=VALUE passed to every run (repeatable)");
   cmd->add_option("--omnidso", args->executable,
                   "the omnidso executable that performs the runs (default: this one)");
   cmd->add_flag("--quiet", args->quiet, "no progress output");

@@ -55,8 +55,8 @@ void runTask(const TaskArguments& args) {
   sigprocmask(SIG_BLOCK, &terminating, nullptr);
   ProcessCallbacks callbacks;
   callbacks.interrupted = [] { return pendingTerminatingSignal() != 0; };
-  const ProcessOutcome outcome = runProcesses(
-      {{args.command, (dir / "log.txt").string(), args.timeout_s}}, 1, callbacks)[0];
+  const ProcessOutcome outcome =
+      runProcesses({{args.command, (dir / "log.txt").string(), args.timeout_s}}, 1, callbacks)[0];
   // A scheduler that stops the task signals the run too: the run's death by that signal is the
   // scheduler's doing, not the run's failure. Give our own signal a moment to arrive.
   int stop_signal = pendingTerminatingSignal();
@@ -64,6 +64,11 @@ void runTask(const TaskArguments& args) {
     const timespec grace{1, 0};
     stop_signal = std::max(0, sigtimedwait(&terminating, nullptr, &grace));
   }
+  // Under Slurm a SIGKILL from outside is the cluster's (the OOM killer of the job's cgroup,
+  // the end of KillWait): sacct knows why, and the run is not finished.
+  if (!stop_signal && outcome.kind == ProcessOutcome::Kind::kSignaled &&
+      outcome.signal == SIGKILL && std::getenv("SLURM_JOB_ID"))
+    stop_signal = SIGKILL;
   if (stop_signal) {
     std::cerr << args.run_directory << ": stopped by signal " << stop_signal
               << ", no result written\n";
@@ -86,8 +91,7 @@ void registerAblateTaskCommand(CLI::App& app) {
       "RUN_DIR/result.json");
   cmd->add_option("run_dir", args->run_directory, "the run's directory (holds planned.json)")
       ->required();
-  cmd->add_option("command", args->command, "-- then the `omnidso run` command line")
-      ->required();
+  cmd->add_option("command", args->command, "-- then the `omnidso run` command line")->required();
   cmd->add_option("--timeout", args->timeout_s, "seconds before the run is killed (0: none)")
       ->check(CLI::NonNegativeNumber);
   cmd->callback([args] { runTask(*args); });

@@ -11,9 +11,12 @@ namespace {
 namespace fs = std::filesystem;
 
 nlohmann::json passThroughJson(const RunPassThrough& p) {
-  return {{"points", p.points},       {"max_frames", p.max_frames},
-          {"no_intrinsics_opt", p.no_intrinsics_opt}, {"threads", p.threads},
-          {"residuals", p.residuals}, {"config", p.config},
+  return {{"points", p.points},
+          {"max_frames", p.max_frames},
+          {"no_intrinsics_opt", p.no_intrinsics_opt},
+          {"threads", p.threads},
+          {"residuals", p.residuals},
+          {"config", p.config},
           {"settings", p.settings}};
 }
 

@@ -46,9 +46,9 @@ TextTable runsTable(const std::vector<CellSummary>& cells, bool failed_only) {
     for (const RunResult& r : c.runs) {
       if (failed_only && runStatus(r) != "failed") continue;
       t.rows.push_back({c.cell.dataset_name, c.cell.camera_model, std::to_string(c.cell.keyframes),
-                        std::to_string(r.run), std::to_string(r.seed), runStatus(r),
-                        r.failure, plain(r.rmse_m), plain(r.rmse_percent_of_path),
-                        plain(r.tracking_ms), plain(r.mapping_ms), fmt::format("{:.1f}", r.wall_s),
+                        std::to_string(r.run), std::to_string(r.seed), runStatus(r), r.failure,
+                        plain(r.rmse_m), plain(r.rmse_percent_of_path), plain(r.tracking_ms),
+                        plain(r.mapping_ms), fmt::format("{:.1f}", r.wall_s),
                         fmt::format("runs/{}/run{}/log.txt", c.cell.id(), r.run)});
     }
   return t;

@@ -20,8 +20,10 @@ void writePlannedRun(const PlannedRun& run) {
 PlannedRun readPlannedRun(const std::string& run_directory) {
   const fs::path path = fs::path(run_directory) / kPlannedRunFile;
   std::ifstream in(path);
-  if (!in) throw fileError(path.string(), "cannot read (written by omnidso ablate when it plans "
-                                          "the run; is RUN_DIR a run of an ablation?)");
+  if (!in)
+    throw fileError(path.string(),
+                    "cannot read (written by omnidso ablate when it plans "
+                    "the run; is RUN_DIR a run of an ablation?)");
   PlannedRun run;
   try {
     const nlohmann::json j = nlohmann::json::parse(in);
@@ -37,9 +39,9 @@ PlannedRun readPlannedRun(const std::string& run_directory) {
 
 std::vector<std::string> taskArguments(const PlannedRun& run, const std::string& executable,
                                        double timeout_s) {
-  std::vector<std::string> argv = {executable, "ablate-task", "--timeout",
-                                   fmt::format("{:g}", timeout_s), run.directory, "--",
-                                   executable};
+  std::vector<std::string> argv = {
+      executable,    "ablate-task", "--timeout", fmt::format("{:g}", timeout_s),
+      run.directory, "--",          executable};
   argv.insert(argv.end(), run.arguments.begin(), run.arguments.end());
   return argv;
 }

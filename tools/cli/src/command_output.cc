@@ -15,8 +15,8 @@ namespace omnidso::cli {
 
 std::string CommandOutput::describe() const {
   if (!started) return error;
-  std::string text = exit_code >= 0 ? fmt::format("exit status {}", exit_code)
-                                    : std::string("killed by a signal");
+  std::string text =
+      exit_code >= 0 ? fmt::format("exit status {}", exit_code) : std::string("killed by a signal");
   std::string said = err.empty() ? out : err;
   while (!said.empty() && (said.back() == '\n' || said.back() == ' ')) said.pop_back();
   return said.empty() ? text : text + ": " + said;

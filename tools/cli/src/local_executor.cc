@@ -20,8 +20,8 @@ class LocalExecutor : public AblationExecutor {
     for (size_t i : request.pending) {
       const PlannedRun& run = plan.runs[i];
       fs::create_directories(run.directory);
-      ProcessSpec spec{{request.executable}, (fs::path(run.directory) / "log.txt").string(),
-                       request.timeout_s};
+      ProcessSpec spec{
+          {request.executable}, (fs::path(run.directory) / "log.txt").string(), request.timeout_s};
       spec.argv.insert(spec.argv.end(), run.arguments.begin(), run.arguments.end());
       specs.push_back(std::move(spec));
     }

@@ -1,5 +1,6 @@
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -36,9 +37,9 @@ std::map<size_t, std::string> joblogReasons(const fs::path& joblog) {
     }
     if (f.size() < 8) continue;
     try {
-      reasons[std::stoul(f[0])] =
-          fmt::format("GNU parallel: exit value {}, signal {} (host {}, {} s; {})", f[6], f[7],
-                      f[1], f[3], joblog.string());
+      reasons[std::stoul(f[0])] = fmt::format(
+          "GNU parallel: exit value {}, signal {} (host {}, {} s; {})", f[6], f[7], f[1],
+          f[3].substr(std::min(f[3].size(), f[3].find_first_not_of(' '))), joblog.string());
     } catch (const std::exception&) {
       continue;  // not a job line
     }
@@ -65,12 +66,11 @@ class ParallelExecutor : public AblationExecutor {
         const PlannedRun& run = plan.runs[i];
         writePlannedRun(run);
         fs::remove(fs::path(run.directory) / kClusterFailureFile);
-        jobs << shellCommandLine(taskArguments(run, request.executable, request.timeout_s))
-             << "\n";
+        jobs << shellCommandLine(taskArguments(run, request.executable, request.timeout_s)) << "\n";
       }
     }
-    std::vector<std::string> argv = {"parallel", "--jobs", std::to_string(request.jobs),
-                                     "--joblog", (dir / "joblog.tsv").string()};
+    std::vector<std::string> argv = {"parallel", "--jobs", std::to_string(request.jobs), "--joblog",
+                                     (dir / "joblog.tsv").string()};
     argv.insert(argv.end(), o_.arguments.begin(), o_.arguments.end());
     argv.insert(argv.end(), {"::::", (dir / "jobs.txt").string()});
     std::ofstream(dir / "command.txt") << shellCommandLine(argv) << "\n";
@@ -83,34 +83,22 @@ class ParallelExecutor : public AblationExecutor {
     std::future<CommandOutput> parallel = std::async(std::launch::async, runCommand, argv);
     std::vector<size_t> unreported = request.pending;
     RunProgress progress(unreported.size(), request.quiet);
-    auto reportFinished = [&] {
-      for (auto it = unreported.begin(); it != unreported.end();) {
-        const PlannedRun& run = plan.runs[*it];
-        if (!fs::exists(fs::path(run.directory) / "result.json")) {
-          ++it;
-          continue;
-        }
-        progress.finished(run, plan.cells[run.cell], *readFinishedRun(run));
-        it = unreported.erase(it);
-      }
+    while (parallel.wait_for(std::chrono::seconds(1)) != std::future_status::ready) {
+      reportEndedRuns(plan, unreported, false, progress);
       progress.redraw(fmt::format("GNU parallel, failed {}", progress.failed()));
-    };
-    while (parallel.wait_for(std::chrono::seconds(1)) != std::future_status::ready)
-      reportFinished();
+    }
     const CommandOutput result = parallel.get();
     std::ofstream(dir / "parallel.log") << result.out << result.err;
-    if (!result.started) throw Error("GNU parallel: " + result.error + " (apt-get install parallel)");
-    reportFinished();
+    if (!result.started)
+      throw Error("GNU parallel: " + result.error + " (apt-get install parallel)");
+    reportEndedRuns(plan, unreported, false, progress);
     // Jobs that ended without a result.json; the ones parallel never started stay missing.
     const std::map<size_t, std::string> reasons = joblogReasons(dir / "joblog.tsv");
     for (size_t line = 1; line <= request.pending.size(); ++line) {
       const PlannedRun& run = plan.runs[request.pending[line - 1]];
       if (reasons.count(line)) writeClusterFailure(run, reasons.at(line));
     }
-    for (size_t i : unreported) {
-      const PlannedRun& run = plan.runs[i];
-      progress.finished(run, plan.cells[run.cell], currentRunState(run));
-    }
+    reportEndedRuns(plan, unreported, true, progress);
     if (result.exit_code != 0 && !request.quiet)
       std::cerr << fmt::format("GNU parallel: {} (its output: {})\n", result.describe(),
                                (dir / "parallel.log").string());

@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <omnidso/cli/progress.hpp>
 #include <omnidso/cli/run_progress.hpp>
 
@@ -24,13 +25,26 @@ void RunProgress::finished(const PlannedRun& run, const AblationCell& cell,
   failed_ += !result.ok;
   if (!quiet_) {
     if (bar_) std::fprintf(stderr, "\r\033[K");
-    std::fprintf(stderr, "[%zu/%zu] %s\n", done_, total_,
-                 runResultLine(run, cell, result).c_str());
+    std::fprintf(stderr, "[%zu/%zu] %s\n", done_, total_, runResultLine(run, cell, result).c_str());
   }
 }
 
 void RunProgress::redraw(const std::string& detail) {
   if (bar_) printProgressBar(done_, total_, detail);
+}
+
+void reportEndedRuns(const AblationPlan& plan, std::vector<size_t>& unreported, bool all_ended,
+                     RunProgress& progress) {
+  for (auto it = unreported.begin(); it != unreported.end();) {
+    const PlannedRun& run = plan.runs[*it];
+    if (!all_ended &&
+        !std::filesystem::exists(std::filesystem::path(run.directory) / "result.json")) {
+      ++it;
+      continue;
+    }
+    progress.finished(run, plan.cells[run.cell], currentRunState(run));
+    it = unreported.erase(it);
+  }
 }
 
 }  // namespace omnidso::cli

@@ -78,9 +78,9 @@ std::map<int, SlurmTaskState> parseSlurmTaskStates(const std::string& text,
 
 bool isActiveSlurmState(const std::string& state) {
   static const std::set<std::string> active = {
-      "PENDING",   "RUNNING",  "CONFIGURING", "COMPLETING", "SUSPENDED", "REQUEUED",
-      "REQUEUE_FED", "REQUEUE_HOLD", "RESIZING", "RESV_DEL_HOLD", "SIGNALING", "STAGE_OUT",
-      "STOPPED"};
+      "PENDING",   "RUNNING",     "CONFIGURING",  "COMPLETING", "SUSPENDED",
+      "REQUEUED",  "REQUEUE_FED", "REQUEUE_HOLD", "RESIZING",   "RESV_DEL_HOLD",
+      "SIGNALING", "STAGE_OUT",   "STOPPED"};
   return active.count(state) > 0;
 }
 
@@ -91,9 +91,8 @@ std::string slurmFailureReason(const std::string& job_id, int index, const Slurm
   if (!task.elapsed.empty()) where += " after " + task.elapsed;
   if (!task.exit_code.empty()) where += ", exit code " + task.exit_code;
   // Reasons that only say why the task waited are no reason for its end.
-  static const std::set<std::string> waiting = {"",         "None",      "JobArrayTaskLimit",
-                                                "Priority", "Resources", "BeginTime",
-                                                "Dependency"};
+  static const std::set<std::string> waiting = {
+      "", "None", "JobArrayTaskLimit", "Priority", "Resources", "BeginTime", "Dependency"};
   if (!waiting.count(task.reason)) where += ", reason " + task.reason;
   std::string text = fmt::format("Slurm: {} ({})", task.state_text, where);
   if (task.state == "FAILED" || task.state == "COMPLETED")

@@ -51,12 +51,13 @@ std::vector<Submission> submissions(const std::string& out_dir) {
 
 // The array's tasks as squeue shows them; nullopt when squeue could not say (logged).
 std::optional<std::map<int, SlurmTaskState>> queueStates(const std::string& job_id) {
-  const CommandOutput q = runCommand({"squeue", "-h", "-r", "-t", "all", "-j", job_id, "-o", "%i|%T"});
+  const CommandOutput q =
+      runCommand({"squeue", "-h", "-r", "-t", "all", "-j", job_id, "-o", "%i|%T"});
   if (q.succeeded()) return parseSlurmTaskStates(q.out, job_id);
   // squeue forgets a job some minutes after its end (MinJobAge): nothing of it runs.
   if (q.started && q.err.find("Invalid job id") != std::string::npos)
     return std::map<int, SlurmTaskState>{};
-  std::cerr << "omnidso: squeue: " << q.describe() << " (asking again)\n";
+  std::cerr << "omnidso: squeue: " << q.describe() << "\n";
   return std::nullopt;
 }
 
@@ -102,14 +103,17 @@ std::vector<int> unfinishedTasks(const Submission& s,
 // cluster.json for the `unfinished` tasks of `s`, which have ended.
 void recordFailures(const Submission& s, const std::vector<int>& unfinished,
                     const std::map<std::string, const PlannedRun*>& runs,
-                    const std::map<int, SlurmTaskState>& last_queue_states,
-                    const SlurmOptions& o) {
+                    const std::map<int, SlurmTaskState>& last_queue_states, const SlurmOptions& o) {
   if (unfinished.empty()) return;
   std::string sacct_error;
   const double patience_s = std::max(30.0, 2 * o.poll_interval_s);
   std::map<int, SlurmTaskState> states =
       accountedStates(s.job_id, unfinished, patience_s, sacct_error);
   for (int i : unfinished) {
+    // A task that completed wrote its result.json; a shared file system may show it late.
+    if (states.count(i) && states[i].state == "COMPLETED")
+      for (int wait = 0; wait < 10 && !fs::exists(fs::path(s.run_dirs[i]) / "result.json"); ++wait)
+        std::this_thread::sleep_for(std::chrono::seconds(1));
     const std::string output = (s.dir / fmt::format("task-{}.out", i)).string();
     std::string reason;
     if (states.count(i)) {
@@ -147,9 +151,10 @@ class SlurmExecutor : public AblationExecutor {
               "wait for it, or cancel it (scancel {}), before submitting again",
               s.job_id, s.dir.string(), s.job_id));
       }
-    Submission s{fs::path(request.out_dir) / "slurm" /
-                     ("submission-" + std::to_string(earlier.size() + 1)),
-                 {}, {}};
+    Submission s{
+        fs::path(request.out_dir) / "slurm" / ("submission-" + std::to_string(earlier.size() + 1)),
+        {},
+        {}};
     const std::string script = writeSubmission(request, s);
     if (o_.dry_run) {
       std::cerr << fmt::format("wrote {} ({} array tasks); submit it with: sbatch {}\n", script,
@@ -163,9 +168,10 @@ class SlurmExecutor : public AblationExecutor {
     std::cerr << fmt::format("submitted Slurm job array {} ({} tasks, script {})\n", s.job_id,
                              s.run_dirs.size(), script);
     if (!o_.wait) {
-      std::cerr << fmt::format("not waiting; follow it with `squeue -j {}`, build the tables "
-                               "with `omnidso ablate --collect --out {}`\n",
-                               s.job_id, request.out_dir);
+      std::cerr << fmt::format(
+          "not waiting; follow it with `squeue -j {}`, build the tables "
+          "with `omnidso ablate --collect --out {}`\n",
+          s.job_id, request.out_dir);
       return false;
     }
     follow(request, s);
@@ -188,8 +194,7 @@ class SlurmExecutor : public AblationExecutor {
     }
     const fs::path script = s.dir / "job.sh";
     std::ofstream(script) << slurmArrayScript(tasks, o_.resources,
-                                              o_.limit_running ? request.jobs : 0,
-                                              s.dir.string());
+                                              o_.limit_running ? request.jobs : 0, s.dir.string());
     fs::permissions(script, fs::perms::owner_exec, fs::perm_options::add);
     return script.string();
   }
@@ -202,15 +207,7 @@ class SlurmExecutor : public AblationExecutor {
     std::map<int, SlurmTaskState> last_states;
     Clock::time_point last_poll = Clock::now() - std::chrono::hours(1);
     while (true) {
-      for (auto it = unreported.begin(); it != unreported.end();) {
-        const PlannedRun& run = plan.runs[*it];
-        if (!fs::exists(fs::path(run.directory) / "result.json")) {
-          ++it;
-          continue;
-        }
-        progress.finished(run, plan.cells[run.cell], *readFinishedRun(run));
-        it = unreported.erase(it);
-      }
+      reportEndedRuns(plan, unreported, false, progress);
       if (std::chrono::duration<double>(Clock::now() - last_poll).count() >= o_.poll_interval_s) {
         last_poll = Clock::now();
         if (const auto states = queueStates(s.job_id)) {
@@ -222,20 +219,17 @@ class SlurmExecutor : public AblationExecutor {
             else if (isActiveSlurmState(state.state))
               ++running;
           }
-          progress.redraw(fmt::format("job {}: queued {}, running {}, failed {}", s.job_id,
-                                      pending, running, progress.failed()));
+          progress.redraw(fmt::format("job {}: queued {}, running {}, failed {}", s.job_id, pending,
+                                      running, progress.failed()));
           if (pending + running == 0) break;
         }
       }
-      std::this_thread::sleep_for(std::chrono::milliseconds(
-          static_cast<int>(std::min(1.0, o_.poll_interval_s) * 1000)));
+      std::this_thread::sleep_for(
+          std::chrono::milliseconds(static_cast<int>(std::min(1.0, o_.poll_interval_s) * 1000)));
     }
     const auto runs = runsByDirectory(plan);
     recordFailures(s, unfinishedTasks(s, runs), runs, last_states, o_);
-    for (size_t i : unreported) {
-      const PlannedRun& run = plan.runs[i];
-      progress.finished(run, plan.cells[run.cell], currentRunState(run));
-    }
+    reportEndedRuns(plan, unreported, true, progress);
   }
 
   SlurmOptions o_;

@@ -10,7 +10,8 @@
 //
 // When the task is told to stop (SIGTERM, SIGINT or SIGHUP: scancel, Slurm's time limit,
 // GNU parallel's --timeout or Ctrl-C) it kills the run and writes no result.json: the run is
-// not finished, the cluster's reason is collected by the executor instead.
+// not finished, the cluster's reason is collected by the executor instead. So does a run
+// killed by SIGKILL inside a Slurm job (the OOM killer of its cgroup).
 
 #include <omnidso/cli/ablation_plan.hpp>
 #include <string>

@@ -7,6 +7,7 @@
 #include <omnidso/cli/ablation_plan.hpp>
 #include <omnidso/cli/ablation_run_result.hpp>
 #include <string>
+#include <vector>
 
 namespace omnidso::cli {
 
@@ -26,5 +27,11 @@ class RunProgress {
   std::size_t total_, done_ = 0, failed_ = 0;
   bool quiet_, bar_;
 };
+
+// For the executors that learn of a run's end from its files: prints each run of `unreported`
+// (indices into plan.runs) whose result.json has appeared — or every one when `all_ended`,
+// then with its cluster.json reason or as missing — and drops it from the list.
+void reportEndedRuns(const AblationPlan& plan, std::vector<size_t>& unreported, bool all_ended,
+                     RunProgress& progress);
 
 }  // namespace omnidso::cli
