@@ -109,7 +109,13 @@ std::string LocalSlurm::unavailableReason() {
   return "";
 }
 
-LocalSlurm::LocalSlurm(const std::string& dir) : dir_(fs::absolute(dir).string()) {
+static std::string newTemporaryFolder() {
+  char name[] = "/tmp/omnidso-slurm-XXXXXX";
+  if (!::mkdtemp(name)) throw std::runtime_error("mkdtemp failed");
+  return name;
+}
+
+LocalSlurm::LocalSlurm() : dir_(newTemporaryFolder()) {
   const fs::path d(dir_);
   for (const char* sub : {"munge", "socket", "db", "state", "spool", "log"})
     fs::create_directories(d / sub);
@@ -265,6 +271,8 @@ void LocalSlurm::stopAll() {
     }
   }
   daemons_.clear();
+  std::error_code ignored;
+  fs::remove_all(dir_, ignored);
   if (had_conf_)
     ::setenv("SLURM_CONF", previous_conf_.c_str(), 1);
   else

@@ -24,9 +24,10 @@ class LocalSlurm {
   // Why this machine cannot run the cluster (a missing program, not root, ...); empty if it can.
   static std::string unavailableReason();
 
-  // Starts every daemon under `dir` and waits for the node to be idle; throws
-  // std::runtime_error with the failing daemon's log otherwise.
-  explicit LocalSlurm(const std::string& dir);
+  // Starts every daemon in a new folder /tmp/omnidso-slurm-XXXXXX (short: munge's socket path
+  // must fit in 108 bytes) and waits for the node to be idle; throws std::runtime_error with
+  // the failing daemon's log otherwise. The folder is removed again by the destructor.
+  LocalSlurm();
   ~LocalSlurm();
   LocalSlurm(const LocalSlurm&) = delete;
   LocalSlurm& operator=(const LocalSlurm&) = delete;

@@ -68,7 +68,7 @@ TEST(SlurmClusterTest, AblationThroughSlurmEqualsTheLocalOneAndACancelledTaskIsR
   ASSERT_EQ(std::system((grid + " --jobs 2 --out " + local + " > /dev/null 2>&1").c_str()), 0);
   const double local_s = seconds(start);
 
-  test::LocalSlurm slurm(dir.file("slurm"));
+  test::LocalSlurm slurm;
   // Submitted and followed in the background; task 0 is cancelled once its run has started.
   const std::string submit = grid + " --executor slurm --jobs 2 --poll-interval 0.5 --out " +
                              cluster + " > " + dir.file("first.log") + " 2>&1";
@@ -89,7 +89,7 @@ TEST(SlurmClusterTest, AblationThroughSlurmEqualsTheLocalOneAndACancelledTaskIsR
   ASSERT_EQ(first_status, 0) << readFile(dir.file("first.log"));
   EXPECT_FALSE(fs::exists(run0 + "/result.json")) << "cancelled while running";
   const std::string runs = readFile(cluster + "/runs.csv");
-  EXPECT_NE(runs.find("room,native,5,1,0,failed,Slurm: CANCELLED by 0 (job " + job + "_0"),
+  EXPECT_NE(runs.find("room,native,5,1,0,failed,\"Slurm: CANCELLED by 0 (job " + job + "_0"),
             std::string::npos)
       << runs << readFile(dir.file("first.log"));
   EXPECT_NE(readFile(cluster + "/tables.md").find("(failed 1/2)"), std::string::npos);

@@ -9,8 +9,8 @@ namespace {
 
 // sbatch reads an #SBATCH line up to its end, splitting at blanks.
 std::string directive(const std::string& option, const std::string& value, const char* origin) {
-  if (value.find_first_of("\n\r") != std::string::npos)
-    throw Error(fmt::format("{}: '{}' holds a line break", origin, value));
+  if ((option + value).find_first_of("\n\r") != std::string::npos)
+    throw Error(fmt::format("{}: '{}' holds a line break", origin, value.empty() ? option : value));
   return "#SBATCH " + (value.empty() ? option : option + "=" + value) + "\n";
 }
 
