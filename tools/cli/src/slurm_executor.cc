@@ -9,6 +9,8 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <thread>
+
 #include <omnidso/cli/ablation_run_result.hpp>
 #include <omnidso/cli/ablation_task.hpp>
 #include <omnidso/cli/command_output.hpp>
@@ -16,7 +18,6 @@
 #include <omnidso/cli/slurm_accounting.hpp>
 #include <omnidso/cli/slurm_executor.hpp>
 #include <omnidso/core/error.hpp>
-#include <thread>
 
 namespace omnidso::cli {
 namespace {
