@@ -164,6 +164,7 @@ TEST_F(AblateExecutorsTest, CollectMarksWhatHasNotFinishedAndDryRunSubmitsNothin
   EXPECT_NE(md.find("0.0100 (missing 1/2)"), std::string::npos) << md;
   EXPECT_NE(md.find("failed 1/2, missing 1/2"), std::string::npos) << md;
   EXPECT_NE(md.find("6 runs have not finished"), std::string::npos) << md;
+  EXPECT_NE(md.find("runs/seq__native__kf5/run2"), std::string::npos) << "listed as missing";
   EXPECT_THROW(runAblate("--collect --out " + tmp_.str() + "/nothing"), Error);
 }
 

@@ -244,6 +244,14 @@ void runAblate(const AblateArguments& args) {
             << (missing ? fmt::format(", {} missing (not finished)", missing) : "") << "\n"
             << "tables: " << (fs::path(out) / "tables.md").string() << " (and CSV files)\n";
   for (const std::string& p : plot_paths) std::cout << "plot:   " << p << "\n";
+  size_t listed = 0;  // the missing runs, so that a collect says what is still to come
+  for (const CellSummary& c : cells)
+    for (const RunResult& r : c.runs)
+      if (r.missing && listed++ < 20)
+        std::cout << fmt::format("missing: {} {} run {} (seed {}): runs/{}/run{}\n",
+                                 c.cell.dataset_name, c.cell.method(), r.run, r.seed, c.cell.id(),
+                                 r.run);
+  if (listed > 20) std::cout << fmt::format("… and {} more missing runs (runs.csv)\n", listed - 20);
 }
 
 }  // namespace

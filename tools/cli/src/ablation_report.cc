@@ -96,11 +96,17 @@ void writeAblationReport(const std::string& out_dir, const std::string& preamble
       brief.rows.push_back({row[0], row[1], row[2], row[3], row[4], row[6], row[12]});
     md << markdownTable(brief);
   }
-  size_t missing = 0;
-  for (const CellSummary& c : cells) missing += c.missing;
-  if (missing)
+  TextTable missing;  // the runs.csv rows of runs without a result (collected early)
+  missing.header = {"dataset", "camera model", "N_f", "run", "seed", "directory"};
+  missing.label_columns = missing.header.size();
+  for (const auto& row : runsTable(cells, false).rows)
+    if (row[5] == "missing")
+      missing.rows.push_back({row[0], row[1], row[2], row[3], row[4],
+                              fs::path(row[12]).parent_path().string()});
+  if (!missing.rows.empty())
     md << "\n## Missing runs\n\n"
-       << missing << " runs have not finished; they have `missing` as status in `runs.csv`.\n";
+       << missing.rows.size() << " runs have not finished (`missing` in `runs.csv`):\n\n"
+       << markdownTable(missing);
   writeFile(out / "runs.csv", csvTable(runsTable(cells, false)));
   writeFile(out / "tables.md", md.str());
 }
