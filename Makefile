@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 DEMO_DIR ?= $(BUILD_DIR)/demo
 
-.PHONY: all deps configure build demo test test-all bench clean
+.PHONY: all deps configure build demo test test-all test-slurm bench clean
 
 all: build
 
@@ -23,6 +23,12 @@ test: build
 
 test-all: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure --parallel $(JOBS)
+
+# `omnidso ablate --executor slurm` through a real single-node Slurm that the test starts
+# (installs slurm-wlm, slurmdbd, munge, mariadb-server and parallel; run as root).
+test-slurm: build
+	@bash tools/install_deps.sh slurm
+	@cd $(BUILD_DIR) && ctest --output-on-failure -R '^SlurmClusterTest\.'
 
 bench: build
 	@$(BUILD_DIR)/benchmarks/omnidso_benchmarks $(BENCH_ARGS)

@@ -9,7 +9,8 @@
 // (written by ablation_report.hpp).
 //
 // Rule: a value is the median over the successful runs of its cell; "(failed k/n)" after it
-// says that k of the n runs failed and were left out; "failed n/n" that none succeeded.
+// says that k of the n runs failed and were left out; "failed n/n" that none succeeded;
+// "(missing m/n)" that m runs have not finished (yet), when tables are collected early.
 // Table V pools the runs of all datasets of a camera model × N_f.
 
 #include <omnidso/cli/ablation_plan.hpp>
@@ -32,6 +33,7 @@ struct CellSummary {
   AblationCell cell;
   std::vector<RunResult> runs;  // in run order
   size_t succeeded = 0;
+  size_t missing = 0;  // runs not finished (RunResult::missing)
   // Medians over the successful runs (each column its own median).
   std::optional<double> rmse_m, rmse_percent_of_path, scale_drift_percent, tracking_ms,
       mapping_ms;
