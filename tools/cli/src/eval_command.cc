@@ -27,6 +27,7 @@ struct EvalArguments {
   std::string delta_unit = "f";
   bool pairs_from_reference = false;
   bool json = false;
+  bool strict = false;  // refuse repeated or out-of-order timestamps instead of repairing
 };
 
 nlohmann::ordered_json statisticsJson(const ErrorStatistics& s) {
@@ -80,12 +81,21 @@ void printTable(const EvalArguments& args, const EvaluationResult& r, size_t gt_
             << statisticsRow("RPE (deg)", r.rpe_rotation_deg);
 }
 
+// The reader's repairs (repeated timestamps dropped, lines sorted) go to stderr, so that
+// stdout stays the table or JSON a script parses.
+Trajectory readReportingWarnings(const std::string& path, TrajectoryFormat format, bool strict) {
+  TrajectoryFile file = readTrajectoryFile(
+      path, format, strict ? TimestampPolicy::kStrict : TimestampPolicy::kTolerant);
+  for (const std::string& warning : file.warnings) std::cerr << "warning: " << warning << "\n";
+  return std::move(file.poses);
+}
+
 void runEval(const EvalArguments& args) {
   const TrajectoryFormat est_format = parseTrajectoryFormat(args.format);
   const TrajectoryFormat gt_format =
       parseTrajectoryFormat(args.gt_format.empty() ? args.format : args.gt_format);
-  const Trajectory gt = readTrajectory(args.gt_path, gt_format);
-  const Trajectory est = readTrajectory(args.est_path, est_format);
+  const Trajectory gt = readReportingWarnings(args.gt_path, gt_format, args.strict);
+  const Trajectory est = readReportingWarnings(args.est_path, est_format, args.strict);
 
   EvaluationOptions options;
   options.alignment = parseAlignmentType(args.align);
@@ -143,6 +153,9 @@ void registerEvalCommand(CLI::App& app) {
   cmd->add_flag("--pairs-from-reference", args->pairs_from_reference,
                 "RPE in metres: choose pairs along the ground truth, not the estimate");
   cmd->add_flag("--json", args->json, "print a JSON object instead of a table");
+  cmd->add_flag("--strict", args->strict,
+                "refuse repeated or out-of-order timestamps (default: keep the first of "
+                "repeated ones and sort, with a warning)");
   cmd->callback([args] { runEval(*args); });
 }
 
