@@ -108,23 +108,47 @@ void assign(const Setting& s, const std::string& value) {
   if (!ok) throw Error(std::string("setting ") + s.name + ": cannot parse '" + value + "'");
 }
 
+// No setting of the table is meaningfully negative (counts, weights, tolerances, sizes in
+// pixels), and a pyramid needs a level: a negative count would size a vector or a loop
+// wrongly instead of being refused.
+void checkRange(const Setting& s) {
+  const bool ok = std::visit(
+      [&](auto* target) {
+        using T = std::remove_pointer_t<decltype(target)>;
+        if constexpr (std::is_same_v<T, bool> || std::is_unsigned_v<T>) {
+          return true;
+        } else {
+          return *target >= (std::string(s.name) == "pyramid_levels" ? T(1) : T(0));
+        }
+      },
+      s.target);
+  if (!ok) {
+    throw Error(std::string("setting ") + s.name +
+                (std::string(s.name) == "pyramid_levels" ? ": must be at least 1"
+                                                          : ": must not be negative"));
+  }
+}
+
 void applyYamlNode(OdometryOptions& options, const YAML::Node& node, const std::string& prefix,
                    const std::string& path) {
   if (!node.IsMap()) throw Error(path + ": expected a map of settings" +
                                  (prefix.empty() ? "" : " under '" + prefix + "'"));
   for (const auto& entry : node) {
-    const std::string name = prefix + entry.first.as<std::string>();
+    const int line = entry.first.Mark().line + 1;
+    if (!entry.first.IsScalar()) {
+      throw fileError(path, line, "a setting's name must be a plain word, not a list or map");
+    }
+    const std::string name = prefix + entry.first.Scalar();
     if (entry.second.IsMap()) {
       applyYamlNode(options, entry.second, name + ".", path);
     } else if (entry.second.IsScalar()) {
       try {
         applyOdometrySetting(options, name, entry.second.Scalar());
       } catch (const Error& e) {
-        throw Error(path + ":" + std::to_string(entry.first.Mark().line + 1) + ": " + e.what());
+        throw fileError(path, line, e.what());
       }
     } else {
-      throw Error(path + ":" + std::to_string(entry.first.Mark().line + 1) + ": setting " +
-                  name + " must be a single value");
+      throw fileError(path, line, "setting " + name + " must be a single value");
     }
   }
 }
@@ -133,10 +157,14 @@ void applyYamlNode(OdometryOptions& options, const YAML::Node& node, const std::
 
 void applyOdometrySetting(OdometryOptions& options, const std::string& name, const std::string& value) {
   for (const Setting& s : settingsOf(options))
-    if (name == s.name) return assign(s, value);
+    if (name == s.name) {
+      assign(s, value);
+      return checkRange(s);
+    }
+  // One line (an error is one message), the valid names in table order.
   std::string known;
-  for (const std::string& n : odometrySettingNames()) known += "\n  " + n;
-  throw Error("unknown setting '" + name + "'; the settings are:" + known);
+  for (const std::string& n : odometrySettingNames()) known += (known.empty() ? "" : ", ") + n;
+  throw Error("unknown setting '" + name + "'; the settings are: " + known);
 }
 
 void applyOdometrySettingAssignment(OdometryOptions& options, const std::string& assignment) {
@@ -151,7 +179,8 @@ void applyOdometryConfigFile(OdometryOptions& options, const std::string& path) 
   try {
     root = YAML::LoadFile(path);
   } catch (const YAML::Exception& e) {
-    throw Error(path + ": " + e.what());
+    if (e.mark.is_null()) throw fileError(path, e.msg);
+    throw fileError(path, e.mark.line + 1, "malformed YAML: " + e.msg);
   }
   if (root.IsNull()) return;  // an empty file changes nothing
   applyYamlNode(options, root, "", path);
