@@ -108,7 +108,12 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
       const double due_s = (frame.timestamp_s - index.frames[0].timestamp_s) / options.playback_speed;
       std::this_thread::sleep_until(start + std::chrono::duration<double>(due_s));
     }
-    const RawImage raw = readRawImage(frame.image_path);
+    RawImage raw;
+    try {
+      raw = readRawImage(frame.image_path);
+    } catch (const Error& e) {  // point at the index line that lists the image too
+      throw fileError(frame.index_file, frame.index_line, e.what());
+    }
     if (raw.pixels.width() != source.width() || raw.pixels.height() != source.height())
       throw Error(frame.image_path + ": image is " + std::to_string(raw.pixels.width()) + "x" +
                   std::to_string(raw.pixels.height()) + ", expected " +

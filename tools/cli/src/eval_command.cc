@@ -32,6 +32,7 @@ struct EvalArguments {
   bool json = false;
   double drift_window_m = 0.0;  // 0: defaultScaleDriftWindow
   std::string plot;             // PNG: ATE and local scale over time
+  bool strict = false;  // refuse repeated or out-of-order timestamps instead of repairing
 };
 
 nlohmann::ordered_json statisticsJson(const ErrorStatistics& s) {
@@ -98,12 +99,21 @@ void printTable(const EvalArguments& args, const EvaluationResult& r,
                            drift->max_ratio);
 }
 
+// The reader's repairs (repeated timestamps dropped, lines sorted) go to stderr, so that
+// stdout stays the table or JSON a script parses.
+Trajectory readReportingWarnings(const std::string& path, TrajectoryFormat format, bool strict) {
+  TrajectoryFile file = readTrajectoryFile(
+      path, format, strict ? TimestampPolicy::kStrict : TimestampPolicy::kTolerant);
+  for (const std::string& warning : file.warnings) std::cerr << "warning: " << warning << "\n";
+  return std::move(file.poses);
+}
+
 void runEval(const EvalArguments& args) {
   const TrajectoryFormat est_format = parseTrajectoryFormat(args.format);
   const TrajectoryFormat gt_format =
       parseTrajectoryFormat(args.gt_format.empty() ? args.format : args.gt_format);
-  const Trajectory gt = readTrajectory(args.gt_path, gt_format);
-  const Trajectory est = readTrajectory(args.est_path, est_format);
+  const Trajectory gt = readReportingWarnings(args.gt_path, gt_format, args.strict);
+  const Trajectory est = readReportingWarnings(args.est_path, est_format, args.strict);
 
   EvaluationOptions options;
   options.alignment = parseAlignmentType(args.align);
@@ -171,6 +181,9 @@ void registerEvalCommand(CLI::App& app) {
   cmd->add_option("--plot", args->plot,
                   "write a PNG: ATE over time beside the local scale over time (refused if it exists)");
   cmd->add_flag("--json", args->json, "print a JSON object instead of a table");
+  cmd->add_flag("--strict", args->strict,
+                "refuse repeated or out-of-order timestamps (default: keep the first of "
+                "repeated ones and sort, with a warning)");
   cmd->callback([args] { runEval(*args); });
 }
 

@@ -9,7 +9,6 @@
 #include <omnidso/core/scale_drift.hpp>
 #include <omnidso/cli/scale_drift_json.hpp>
 #include <omnidso/core/trajectory_io.hpp>
-#include <omnidso/synth/dataset_loading.hpp>
 
 namespace omnidso::cli {
 namespace {
@@ -64,6 +63,7 @@ void writeTum(const std::string& path, const Trajectory& t) { writeTrajectoryTum
 }  // namespace
 
 nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& index,
+                               const std::optional<Trajectory>& ground_truth,
                                const Odometry& odometry, const RunDescription& d) {
   // Trajectories, per segment and all together.
   std::map<int, Trajectory> frames_by_segment, keyframes_by_segment;
@@ -154,8 +154,8 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
   s["initialized"] = !all_keyframes.empty();
   if (!odometry.initialized()) s["initialization_status"] = odometry.initializationStatus();
 
-  if (index.groundtruth_path && !all_keyframes.empty()) {
-    const Trajectory gt = synth::cameraGroundTruth(index);
+  if (ground_truth && !all_keyframes.empty()) {
+    const Trajectory& gt = *ground_truth;
     const double rate = datasetFrameRate(index);
     const double max_dt = rate > 0 ? 0.5 / rate : 0.02;
     nlohmann::json segments = nlohmann::json::array();
@@ -176,7 +176,9 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
     s["ate_segments"] = segments;
     if (best >= 0) s["ate"] = segments[best];
   }
-  std::ofstream(out_dir + "/summary.json") << s.dump(2) << "\n";
+  std::ofstream summary(out_dir + "/summary.json");
+  summary << s.dump(2) << "\n";
+  if (!summary) throw Error(out_dir + "/summary.json: write failed");
   return s;
 }
 
