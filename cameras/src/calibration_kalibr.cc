@@ -90,8 +90,10 @@ class FieldReader {
   std::pair<int, int> resolution() const {
     const std::vector<double> r = numbers("resolution");
     requireCount("resolution", r, 2, "[width, height]");
-    if (r[0] < 1 || r[1] < 1 || r[0] != std::floor(r[0]) || r[1] != std::floor(r[1])) {
-      throw error("resolution", "width and height must be positive integers");
+    if (r[0] < 1 || r[1] < 1 || r[0] != std::floor(r[0]) || r[1] != std::floor(r[1]) ||
+        r[0] > kMaxCalibrationImageSide || r[1] > kMaxCalibrationImageSide) {
+      throw error("resolution", "width and height must be positive integers up to " +
+                                    std::to_string(kMaxCalibrationImageSide));
     }
     return {static_cast<int>(r[0]), static_cast<int>(r[1])};
   }
@@ -192,7 +194,10 @@ SensorCalibration loadEurocSensor(const std::string& path) {
   const FieldReader f(path, root, "");
   Camera camera = cameraFromKalibrFields(f, "distortion_coefficients");
 
-  const FieldReader t(path, f.node("T_BS"), "T_BS.");
+  // A scalar or list here made yaml-cpp throw BadSubscript at t.numbers (found by fuzzing).
+  const YAML::Node t_bs = f.node("T_BS");
+  if (!t_bs.IsMap()) throw f.error("T_BS", "expected a mapping with rows, cols and data");
+  const FieldReader t(path, t_bs, "T_BS.");
   const std::vector<double> data = t.numbers("data");
   t.requireCount("data", data, 16, "(a row-major 4x4 matrix)");
   Eigen::Matrix4d T = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(data.data());

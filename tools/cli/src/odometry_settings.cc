@@ -113,7 +113,12 @@ void applyYamlNode(OdometryOptions& options, const YAML::Node& node, const std::
   if (!node.IsMap()) throw Error(path + ": expected a map of settings" +
                                  (prefix.empty() ? "" : " under '" + prefix + "'"));
   for (const auto& entry : node) {
-    const std::string name = prefix + entry.first.as<std::string>();
+    // A list or map as a key made as<std::string>() throw YAML's BadConversion (fuzzing).
+    if (!entry.first.IsScalar()) {
+      throw Error(path + ":" + std::to_string(entry.first.Mark().line + 1) +
+                  ": a setting's name must be plain text");
+    }
+    const std::string name = prefix + entry.first.Scalar();
     if (entry.second.IsMap()) {
       applyYamlNode(options, entry.second, name + ".", path);
     } else if (entry.second.IsScalar()) {

@@ -43,6 +43,10 @@ namespace omnidso {
 
 enum class CalibrationFormat { kKalibr, kDsoCameraTxt, kEurocSensor };
 
+// The largest image width or height a calibration may name: beyond every camera made, and
+// far inside int (a side of 1e300 or 3e9 overflowed the conversion; found by fuzzing).
+constexpr int kMaxCalibrationImageSide = 1 << 16;
+
 // Looks at the content: YAML with `T_BS` or `distortion_coefficients` → EuRoC; YAML with
 // `cam0` or `camera_model` → Kalibr; otherwise camera.txt. Throws for unreadable files and
 // for a .yaml/.yml file that is not valid YAML.
