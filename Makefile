@@ -70,4 +70,4 @@ fuzz:
 	  -DOMNIDSO_BUILD_TESTS=OFF -DOMNIDSO_BUILD_FUZZERS=ON \
 	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all" >/dev/null
 	@cmake --build $(FUZZ_DIR) --parallel $(JOBS) --target omnidso_fuzzers
-	@cd $(FUZZ_DIR) && ctest --output-on-failure --label-regex fuzz
+	@cd $(FUZZ_DIR) && ctest --output-on-failure --parallel $(JOBS) --label-regex fuzz
