@@ -15,6 +15,10 @@ packages=(
 if [ "${1:-}" = slurm ]; then
   packages=(slurm-wlm slurmdbd munge mariadb-server parallel)
 fi
+# `make fuzz` only: libFuzzer comes with clang's runtime libraries.
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang libclang-rt-dev)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,4 +1,5 @@
 // The ASL layout of EuRoC and TUM VI: mav0/cam0/data.csv + mav0/cam0/data/*.png.
+#include <charconv>
 #include <filesystem>
 #include <fstream>
 
@@ -36,12 +37,15 @@ LayoutIndex readAslIndex(const std::string& root_path) {
     DatasetFrame frame;
     // Nanoseconds since the epoch: ~1.4e18 exceeds double's 2^53 integer range, so split
     // into seconds and the remainder before converting (keeps sub-microsecond accuracy).
+    // from_chars, not stoll: 19 digits may exceed int64 (found by fuzzing, fuzz/).
     const std::string& stamp = fields[0];
-    if (stamp.find_first_not_of("0123456789") != std::string::npos || stamp.size() > 19) {
+    long long ns = 0;
+    const auto [end, status] = std::from_chars(stamp.data(), stamp.data() + stamp.size(), ns);
+    if (stamp.find_first_not_of("0123456789") != std::string::npos ||
+        status != std::errc() || end != stamp.data() + stamp.size()) {
       throw fileError(csv_path, line_number,
                       fmt::format("timestamp '{}' is not an integer in nanoseconds", stamp));
     }
-    const long long ns = std::stoll(stamp);
     frame.timestamp_s = static_cast<double>(ns / 1000000000LL) +
                         static_cast<double>(ns % 1000000000LL) * 1e-9;
     frame.exposure_ms = 0.0;  // unknown: the ASL layout does not record it
