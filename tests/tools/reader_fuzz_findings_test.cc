@@ -68,7 +68,7 @@ TEST(ReaderFuzzFindings, EurocSensorWhoseTransformIsNotAMappingIsRefused) {
 // A width of 1e300 or 3e9 converted to int: undefined behaviour (UBSan's float-cast-overflow).
 TEST(ReaderFuzzFindings, KalibrResolutionBeyondIntIsRefused) {
   test::TempDir tmp;
-  for (const char* width : {"1e300", "3000000000", "65537"}) {
+  for (const char* width : {"1e300", "3000000000", "100001"}) {
     writeText(tmp.file("camchain.yaml"),
               std::string("camera_model: pinhole\nintrinsics: [300, 300, 240, 240]\n"
                           "distortion_model: none\nresolution: [") +
@@ -94,7 +94,7 @@ TEST(ReaderFuzzFindings, ConfigWhoseSettingNameIsNotTextIsRefusedNamingTheLine) 
     const std::string message =
         errorMessage([&] { cli::applyOdometryConfigFile(options, tmp.file("config.yaml")); });
     EXPECT_NE(message.find("config.yaml:"), std::string::npos) << text << message;
-    EXPECT_NE(message.find("plain text"), std::string::npos) << text << message;
+    EXPECT_NE(message.find("plain word"), std::string::npos) << text << message;
   }
 }
 
