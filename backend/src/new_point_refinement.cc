@@ -4,9 +4,9 @@
 #include <ceres/loss_function.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <omnidso/backend/sliding_window.hpp>
-#include <omnidso/residuals/residual_pattern.hpp>
 #include <vector>
 
 namespace omnidso {
@@ -35,10 +35,8 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
   out.inverse_distance = inverse_distance;
   const WindowKeyframe& host = keyframe(host_id);
   const ImageF& image = host.pyramid->level(0);
-  const double margin = patternRadius<kWindowPatternSize>() + 1.0;
-  if (!(pixel.x() >= margin && pixel.y() >= margin && pixel.x() <= image.width() - 1 - margin &&
-        pixel.y() <= image.height() - 1 - margin) ||
-      !(inverse_distance > 0.0) || !std::isfinite(inverse_distance)) {
+  if (!hostPatchFits(image, pixel) || !(inverse_distance > 0.0) ||
+      !std::isfinite(inverse_distance)) {
     out.verdict = NewPointVerdict::kInconsistent;
     return out;
   }
@@ -62,12 +60,10 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
   }
   out.num_targets = static_cast<int>(targets.size());
 
-  auto evaluate = [&](const Target& t, bool with_jacobian) {
+  auto evaluate = [&](const Target& t) {
     TargetEvaluation e;
-    double* jacobians[6] = {nullptr, nullptr, with_jacobian ? e.J.data() : nullptr,
-                            nullptr, nullptr, nullptr};
-    if (!t.cost->Evaluate(t.blocks.data(), e.r.data(), with_jacobian ? jacobians : nullptr))
-      return e;
+    double* jacobians[6] = {nullptr, nullptr, e.J.data(), nullptr, nullptr, nullptr};
+    if (!t.cost->Evaluate(t.blocks.data(), e.r.data(), jacobians)) return e;
     e.valid = true;
     e.raw_energy = e.r.squaredNorm();
     double rho[3];
@@ -77,43 +73,41 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
     return e;
   };
   const double invalid_energy = options_.outlier_energy_per_pixel * kWindowPatternSize;
-  // Total robust energy at the current d, and the Gauss–Newton H and g. An invalid target
-  // costs the outlier energy (as OutOfBoundsPenalty does in the window).
-  auto linearize = [&](double* energy, double* H, double* g) {
-    *energy = *H = *g = 0.0;
+  double invalid_rho[3];  // an invalid target costs the outlier energy, as OutOfBoundsPenalty
+  loss_->Evaluate(invalid_energy, invalid_rho);
+  // The total robust energy at the current d, the Gauss–Newton H and g, and how many targets
+  // are good (valid, raw energy within the outlier bound).
+  struct Linearization {
+    double energy = 0.0, H = 0.0, g = 0.0;
+    int num_good = 0;
+  };
+  auto linearize = [&] {
+    Linearization l;
     for (const Target& t : targets) {
-      const TargetEvaluation e = evaluate(t, H != nullptr);
+      const TargetEvaluation e = evaluate(t);
       if (!e.valid) {
-        double rho[3];
-        loss_->Evaluate(invalid_energy, rho);
-        *energy += rho[0];
+        l.energy += invalid_rho[0];
         continue;
       }
-      *energy += e.robust_energy;
-      if (H) {
-        *H += e.rho_prime * e.J.squaredNorm();
-        *g += e.rho_prime * e.J.dot(e.r);
-      }
+      l.energy += e.robust_energy;
+      l.H += e.rho_prime * e.J.squaredNorm();
+      l.g += e.rho_prime * e.J.dot(e.r);
+      l.num_good += e.raw_energy <= invalid_energy;
     }
+    return l;
   };
 
-  double energy, H, g;
-  linearize(&energy, &H, &g);
+  Linearization current = linearize();
   double lambda = 0.1;
-  for (int it = 0; it < opts.iterations && H > 0.0; ++it) {
-    const double step = -g / (H * (1.0 + lambda));
+  for (int it = 0; it < opts.iterations && current.H > 0.0; ++it) {
+    const double step = -current.g / (current.H * (1.0 + lambda));
     const double previous = d;
     d = previous + step;
-    double new_energy, new_H, new_g;
-    if (d > 0.0 && std::isfinite(d)) {
-      linearize(&new_energy, &new_H, &new_g);
-    } else {
-      new_energy = std::numeric_limits<double>::infinity();
-    }
-    if (new_energy < energy) {
-      energy = new_energy;
-      H = new_H;
-      g = new_g;
+    Linearization candidate;
+    candidate.energy = std::numeric_limits<double>::infinity();
+    if (d > 0.0 && std::isfinite(d)) candidate = linearize();
+    if (candidate.energy < current.energy) {
+      current = candidate;
       lambda *= 0.5;
     } else {
       d = previous;
@@ -122,11 +116,9 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
     if (std::abs(step) < 1e-4 * std::abs(d)) break;
   }
   out.inverse_distance = d;
-  out.hessian = H;
-  for (const Target& t : targets) {
-    const TargetEvaluation e = evaluate(t, false);
-    if (e.valid && e.raw_energy <= invalid_energy) ++out.num_good_residuals;
-  }
+  out.hessian = current.H;
+  out.num_good_residuals = current.num_good;
+  const double H = current.H;
   if (!(H >= opts.min_hessian))
     out.verdict = NewPointVerdict::kUnobserved;
   else if (out.num_good_residuals < opts.min_good_residuals || !(d > 0.0) || !std::isfinite(d))
