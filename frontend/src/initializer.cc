@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numeric>
+#include <omnidso/backend/affine_prior.hpp>
 #include <omnidso/backend/photometric_factory.hpp>
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/core/error.hpp>
@@ -29,6 +30,26 @@ class InverseDistanceRegularizer final : public ceres::SizedCostFunction<1, 1> {
   double sqrt_weight_, mean_;
 };
 
+// r = √(λ N) · t, t the frame's position in the first frame (pose parameters 4–6): before
+// the snap, the motion is explained by rotation unless translation is clearly needed
+// (header comment).
+class TranslationRegularizer final : public ceres::SizedCostFunction<3, 7> {
+ public:
+  explicit TranslationRegularizer(double sqrt_weight) : sqrt_weight_(sqrt_weight) {}
+  bool Evaluate(double const* const* x, double* r, double** J) const override {
+    for (int k = 0; k < 3; ++k) r[k] = sqrt_weight_ * x[0][4 + k];
+    if (J && J[0]) {
+      Eigen::Map<Eigen::Matrix<double, 3, 7, Eigen::RowMajor>> j(J[0]);
+      j.setZero();
+      j.rightCols<3>().diagonal().setConstant(sqrt_weight_);
+    }
+    return true;
+  }
+
+ private:
+  double sqrt_weight_;
+};
+
 }  // namespace
 
 struct Initializer::Impl {
@@ -41,6 +62,7 @@ struct Initializer::Impl {
   std::vector<Eigen::Vector2d> pixels;
   std::vector<double> inverse_distances;
   std::array<double, 7> pose{};  // T_world_frame with the first frame at the identity
+  std::array<double, 7> pose_before{};  // the solution of the frame before the last
   std::array<double, 2> affine{};
   std::array<double, 7> host_pose{};
   std::array<double, 2> host_affine{};
@@ -59,6 +81,7 @@ struct Initializer::Impl {
 
   void reset() {
     SE3d().toParameters(pose.data());
+    SE3d().toParameters(pose_before.data());
     SE3d().toParameters(host_pose.data());
     affine = {0.0, 0.0};
     host_affine = {0.0, 0.0};
@@ -67,28 +90,43 @@ struct Initializer::Impl {
   }
 
   // One level: returns the RMS residual over valid pattern pixels, and the valid mask.
-  double solveLevel(int level, const ImagePyramid& frame, double exposure, double lambda,
-                    std::vector<bool>* valid_points) {
+  // One level's problem: a photometric residual for every point that projects validly from
+  // the current pose, its distance regulariser, and the frame's affine prior. Before the snap
+  // the distances are tied to 1 and the translation to 0 (fixing the scale the translation
+  // penalty would otherwise shrink away); after it, the distances to their mean only.
+  struct LevelProblem {
+    std::unique_ptr<ceres::LossFunction> loss;
+    std::unique_ptr<ceres::Problem> problem;
+    std::vector<std::pair<size_t, ceres::ResidualBlockId>> blocks;
+  };
+
+  LevelProblem buildLevel(int level, const ImagePyramid& frame, double exposure, bool snapped) {
+    const double lambda = snapped ? options.regularizer_weight : options.pre_snap_regularizer_weight;
     const ImageF& host_image = first->level(level);
     const double margin = patternRadius<kWindowPatternSize>() + 1.0;
     ceres::Problem::Options po;
     po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    ceres::Problem problem(po);
-    std::unique_ptr<ceres::LossFunction> loss(
-        makePhotometricLoss(kWindowPatternSize, options.huber_threshold));
+    LevelProblem lp;
+    lp.problem = std::make_unique<ceres::Problem>(po);
+    lp.loss.reset(makePhotometricLoss(kWindowPatternSize, options.huber_threshold));
+    ceres::Problem& problem = *lp.problem;
     problem.AddParameterBlock(pose.data(), 7, &manifold);
     problem.AddParameterBlock(host_pose.data(), 7, &manifold);
     problem.SetParameterBlockConstant(host_pose.data());
     problem.AddParameterBlock(host_affine.data(), 2);
     problem.SetParameterBlockConstant(host_affine.data());
     problem.AddParameterBlock(affine.data(), 2);
+    if (options.affine_prior_weight_a > 0 || options.affine_prior_weight_b > 0)
+      problem.AddResidualBlock(new AffinePrior(Eigen::Vector2d::Zero(), options.affine_prior_weight_a,
+                                               options.affine_prior_weight_b),
+                               nullptr, affine.data());
     problem.AddParameterBlock(intrinsics.data(), static_cast<int>(intrinsics.size()));
     problem.SetParameterBlockConstant(intrinsics.data());
     const double mean_d =
-        std::accumulate(inverse_distances.begin(), inverse_distances.end(), 0.0) /
-        std::max<size_t>(1, inverse_distances.size());
-    std::vector<std::pair<size_t, ceres::ResidualBlockId>> blocks;
+        snapped ? std::accumulate(inverse_distances.begin(), inverse_distances.end(), 0.0) /
+                      std::max<size_t>(1, inverse_distances.size())
+                : 1.0;
     for (size_t i = 0; i < pixels.size(); ++i) {
       const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
       if (p.x() < margin || p.y() < margin || p.x() > host_image.width() - 1 - margin ||
@@ -103,20 +141,32 @@ struct Initializer::Impl {
       double* params[] = {host_pose.data(), pose.data(), &inverse_distances[i],
                           host_affine.data(), affine.data(), intrinsics.data()};
       if (factory->status(obs, params) != PhotometricStatus::kValid) continue;
-      blocks.emplace_back(
+      lp.blocks.emplace_back(
           i, problem.AddResidualBlock(
                  new OutOfBoundsPenalty(factory->makeCost(DifferentiationMode::kAnalytic, obs),
                                         kDsoOutlierEnergyPerPixel * kWindowPatternSize),
-                 loss.get(), std::vector<double*>(params, params + 6)));
+                 lp.loss.get(), std::vector<double*>(params, params + 6)));
       problem.AddResidualBlock(
           new InverseDistanceRegularizer(std::sqrt(lambda), mean_d), nullptr,
           &inverse_distances[i]);
     }
-    if (blocks.empty()) return std::numeric_limits<double>::infinity();
+    if (!snapped && options.pre_snap_translation_penalty && !lp.blocks.empty())
+      problem.AddResidualBlock(
+          new TranslationRegularizer(std::sqrt(lambda * static_cast<double>(lp.blocks.size()))),
+          nullptr, pose.data());
+    return lp;
+  }
+
+  // One level: returns the RMS residual over valid pattern pixels, and the valid mask.
+  double solveLevel(int level, const ImagePyramid& frame, double exposure, bool snapped,
+                    std::vector<bool>* valid_points) {
+    valid_points->assign(pixels.size(), false);
+    LevelProblem lp = buildLevel(level, frame, exposure, snapped);
+    if (lp.blocks.empty()) return std::numeric_limits<double>::infinity();
     {
       ceres::Solver::Options so;
       auto* ordering = new ceres::ParameterBlockOrdering;
-      for (const auto& [i, id] : blocks) ordering->AddElementToGroup(&inverse_distances[i], 0);
+      for (const auto& [i, id] : lp.blocks) ordering->AddElementToGroup(&inverse_distances[i], 0);
       // One group each: Ceres orders a group's blocks by address, which would make the
       // reduced system's column order (and its last bits) depend on the heap layout.
       int group = 1;
@@ -128,21 +178,68 @@ struct Initializer::Impl {
       so.max_num_iterations = options.max_iterations_per_level;
       so.logging_type = ceres::SILENT;
       ceres::Solver::Summary summary;
-      ceres::Solve(so, &problem, &summary);
+      ceres::Solve(so, lp.problem.get(), &summary);
     }
     double sum = 0.0;
     int n = 0;
-    valid_points->assign(pixels.size(), false);
-    for (const auto& [i, id] : blocks) {
+    for (const auto& [i, id] : lp.blocks) {
       // The wrapped residual's energy; infinite where it is out of bounds or its inverse
       // distance went negative (it only carried the penalty then).
-      const double energy = rawEnergy(problem, id);
+      const double energy = rawEnergy(*lp.problem, id);
       if (!std::isfinite(energy)) continue;
       (*valid_points)[i] = true;
       sum += energy;
       n += kWindowPatternSize;
     }
     return n ? std::sqrt(sum / n) : std::numeric_limits<double>::infinity();
+  }
+
+  // The start of the coarsest level (header comment): the best, by cost, of every rotation
+  // on a grid around each of `centres` (the constant-velocity prediction, then the last
+  // solution) — steps of `rotation_search_step_px` at that level, converted to an angle
+  // through the camera's resolution at the image centre. A fast turn moves the image further
+  // than the alignment's basin (≈ 1–2 px at the coarsest level), and a sudden stop puts the
+  // truth far from the prediction; the cost at the grid's nodes tells which basin to start
+  // from.
+  void searchRotationStart(int level, const ImagePyramid& frame, double exposure, bool snapped,
+                           const std::vector<SE3d>& centres) {
+    const int half = options.rotation_search_half_width;
+    if (half <= 0 || !(options.rotation_search_step_px > 0) || centres.empty()) return;
+    const double step = options.rotation_search_step_px * std::ldexp(1.0, level) * radiansPerPixel();
+    if (!(step > 0)) return;
+    centres.front().toParameters(pose.data());
+    LevelProblem lp = buildLevel(level, frame, exposure, snapped);
+    if (lp.blocks.empty()) return;
+    auto costAt = [&](const SE3d& candidate) {
+      candidate.toParameters(pose.data());
+      double cost = 0.0;
+      lp.problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
+      return cost;
+    };
+    double best_cost = costAt(centres.front());  // first: the prediction wins ties
+    SE3d best = centres.front();
+    for (const SE3d& centre : centres)
+      for (int x = -half; x <= half; ++x)
+        for (int y = -half; y <= half; ++y)
+          for (int z = -half; z <= half; ++z) {
+            Eigen::Matrix<double, 6, 1> xi;
+            xi << 0, 0, 0, x * step, y * step, z * step;
+            const SE3d candidate = centre * SE3d::exp(xi);  // turned in the frame
+            const double cost = costAt(candidate);
+            if (cost < best_cost) {
+              best_cost = cost;
+              best = candidate;
+            }
+          }
+    best.toParameters(pose.data());
+  }
+
+  // Angle between the bearings of the image centre and the pixel beside it.
+  double radiansPerPixel() const {
+    const Eigen::Vector2d c(0.5 * (camera.width() - 1), 0.5 * (camera.height() - 1));
+    Eigen::Vector3d a, b;
+    if (!camera.unproject(c, a) || !camera.unproject(c + Eigen::Vector2d(1.0, 0.0), b)) return 0.0;
+    return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
   }
 
   double parallax(const std::vector<bool>& valid) const {
@@ -190,7 +287,7 @@ void Initializer::setFirstFrame(std::shared_ptr<const ImagePyramid> pyramid, dou
 InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exposure) {
   InitializationResult result;
   if (!hasFirstFrame()) throw Error("Initializer::addFrame before setFirstFrame");
-  ++impl_->frames_tried;
+  const int frames_tried_before_this = impl_->frames_tried++;
   const int levels = std::min({impl_->options.num_levels, frame.numLevels(),
                                impl_->first->numLevels()});
   const InitializerOptions& o = impl_->options;
@@ -198,16 +295,26 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
       o.min_parallax_px > 0 ? o.min_parallax_px : 0.01 * (impl_->camera.width() + impl_->camera.height());
   std::vector<bool> valid;
   double rmse = std::numeric_limits<double>::infinity();
-  auto solveAllLevels = [&](double lambda) {
+  auto solveAllLevels = [&](bool snapped) {
     for (int level = levels - 1; level >= 0; --level)
-      rmse = impl_->solveLevel(level, frame, exposure, lambda, &valid);
+      rmse = impl_->solveLevel(level, frame, exposure, snapped, &valid);
   };
   const bool snapped_before = impl_->snapped_at >= 0;
-  solveAllLevels(snapped_before ? o.regularizer_weight : o.pre_snap_regularizer_weight);
+  {  // start: the rotation search around the constant-velocity prediction and the last pose
+    const SE3d last = SE3d::fromParameters(impl_->pose.data());
+    const SE3d before = SE3d::fromParameters(impl_->pose_before.data());
+    const SE3d predicted = last * (before.inverse() * last);
+    last.toParameters(impl_->pose_before.data());
+    predicted.toParameters(impl_->pose.data());
+    std::vector<SE3d> centres = {predicted};
+    if (frames_tried_before_this > 0) centres.push_back(last);  // else both are the identity
+    impl_->searchRotationStart(levels - 1, frame, exposure, snapped_before, centres);
+  }
+  solveAllLevels(snapped_before);
   double parallax = impl_->parallax(valid);
   if (!snapped_before && parallax >= min_parallax) {
     impl_->snapped_at = impl_->frames_tried;
-    solveAllLevels(o.regularizer_weight);
+    solveAllLevels(true);
     parallax = impl_->parallax(valid);
   }
   const int num_valid = static_cast<int>(std::count(valid.begin(), valid.end(), true));

@@ -3,15 +3,21 @@
 // Sec. V): candidate pixels of the first frame start at inverse distance 1; every following
 // frame is aligned to the first by jointly optimising the relative pose, the frame's affine
 // brightness and every point's inverse distance — photometric residuals (eq. 5–7) in one
-// Ceres problem per pyramid level, coarse to fine, starting from the previous frame's
-// solution. The inverse distances are regularised towards their mean d̄,
+// Ceres problem per pyramid level, coarse to fine, starting from a rotation search (below).
+// The inverse distances are regularised,
 //   r_reg = √λ · (d − d̄),
-// strongly (λ = pre_snap_regularizer_weight) while the baseline is too small to observe
-// them: with a nearly still or purely rotating camera, free distances otherwise fit noise
-// and aliasing and drag the pose away (the error grows frame after frame). Once the RMS
+// strongly (λ = pre_snap_regularizer_weight, d̄ = 1, and the translation too:
+// r_t = √(λ N) · t over the N points, DSO's α energy) while the baseline is too small to
+// observe them: with a nearly still or purely rotating camera, free distances otherwise fit
+// noise and aliasing and drag the pose away (the error grows frame after frame), and a free
+// translation mimics a rotation through a narrow lens. Once the RMS
 // pixel shift the translation alone causes (parallax) exceeds `min_parallax_px`, the
-// initialiser "snaps" (as DSO's does): λ drops to `regularizer_weight`, the frame is solved
+// initialiser "snaps" (as DSO's does): λ drops to `regularizer_weight` with d̄ the mean
+// inverse distance and the translation free, the frame is solved
 // again, and `frames_after_snap` more frames refine the distances on a growing baseline.
+// Start of each frame: the coarsest level begins at the lowest-cost node of a rotation grid
+// around the constant-velocity prediction and around the last pose (rotation_search_*): a
+// fast hand-held swing displaces the coarsest level beyond the alignment's basin.
 // It succeeds when, after those, the error is small enough; the scale is then set so that
 // the mean inverse distance is 1. With a camera standing still it never succeeds, and says
 // so (status()).
@@ -32,6 +38,15 @@ struct InitializerOptions {
   int max_iterations_per_level = 8;
   double regularizer_weight = 50.0;    // λ after the snap, intensity² per (inverse distance)²
   double pre_snap_regularizer_weight = 5000.0;  // λ before it
+  bool pre_snap_translation_penalty = true;     // r_t = √(λ N) t before the snap
+  // affine_prior.hpp, as the tracker's and the window's: with calibrated photometry a free
+  // [a, b] trades contrast against geometry while the alignment is still far off.
+  double affine_prior_weight_a = 1e8;
+  double affine_prior_weight_b = 1e6;
+  // The coarsest level starts from the best of (2h+1)³ rotations of the constant-velocity
+  // prediction, `rotation_search_step_px` apart at that level; h = 0 switches it off.
+  int rotation_search_half_width = 2;
+  double rotation_search_step_px = 1.5;
   int frames_after_snap = 0;
   double min_parallax_px = 0.0;        // 0: use 0.01 · (w + h)
   double max_rmse = 15.0;              // intensity units per residual pixel
