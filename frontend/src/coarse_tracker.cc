@@ -186,15 +186,22 @@ void CoarseTracker::setReference(std::shared_ptr<const ImagePyramid> pyramid, do
 std::vector<SE3d> CoarseTracker::makeHypotheses(const SE3d& T_last_ref,
                                                 const SE3d& velocity) const {
   const SE3d half = SE3d::exp(0.5 * velocity.log());
-  std::vector<SE3d> out = {velocity * T_last_ref, velocity * velocity * T_last_ref,
-                           half * T_last_ref, T_last_ref};
+  const SE3d predicted = velocity * T_last_ref;
+  std::vector<SE3d> out = {predicted, velocity * velocity * T_last_ref, half * T_last_ref,
+                           T_last_ref, SE3d()};
+  // The prediction turned by a·(i, j, k), (i, j, k) ∈ {−1, 0, 1}³ \ 0: single axes first,
+  // then pairs, then triples (the header's order of likelihood).
   const double a = impl_->options.rotation_hypothesis_rad;
-  for (int axis = 0; axis < 3; ++axis)
-    for (double sign : {1.0, -1.0}) {
-      Eigen::Matrix<double, 6, 1> xi = Eigen::Matrix<double, 6, 1>::Zero();
-      xi[3 + axis] = sign * a;
-      out.push_back(SE3d::exp(xi) * velocity * T_last_ref);
-    }
+  if (!(a > 0)) return out;
+  for (int nonzero = 1; nonzero <= 3; ++nonzero)
+    for (int i = -1; i <= 1; ++i)
+      for (int j = -1; j <= 1; ++j)
+        for (int k = -1; k <= 1; ++k) {
+          if (std::abs(i) + std::abs(j) + std::abs(k) != nonzero) continue;
+          Eigen::Matrix<double, 6, 1> xi;
+          xi << 0, 0, 0, a * i, a * j, a * k;
+          out.push_back(SE3d::exp(xi) * predicted);
+        }
   return out;
 }
 

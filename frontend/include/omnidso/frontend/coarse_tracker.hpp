@@ -8,7 +8,9 @@
 //
 // Coarser levels: the points falling into one coarse pixel are merged (mean inverse
 // distance) — the coarse image averages them too.
-// Hypotheses (DSO): constant velocity, double, half and zero motion, then small rotations;
+// Hypotheses (DSO): constant velocity, double, half and zero motion, the reference pose
+// itself, then the constant-velocity guess turned by `rotation_hypothesis_rad` about each of
+// the 26 directions (i, j, k) ∈ {−1, 0, 1}³ \ 0 (DSO's offsets: 0.04 rad per axis);
 // each is tried coarse to fine, and dropped after the coarsest level when its error exceeds
 // `early_reject_factor` × the best coarsest-level error so far. Trying stops as soon as a
 // hypothesis ends below `good_enough_factor` × the previous frame's error.
@@ -42,7 +44,7 @@ struct CoarseTrackerOptions {
   double early_reject_factor = 1.5;
   double good_enough_factor = 1.5;  // DSO's re-track threshold
   double min_valid_fraction = 0.3;
-  double rotation_hypothesis_rad = 0.01;
+  double rotation_hypothesis_rad = 0.04;
   int num_threads = 1;
   // Gaussian priors pulling the frame's affine [a, b] towards the guess. With calibrated
   // exposure times and response (DSO's photometric mode) the brightness model needs no
