@@ -43,6 +43,11 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
                                const std::optional<Trajectory>& ground_truth,
                                const Odometry& odometry, const RunDescription& description);
 
+// The stretch of recorded time the first `frames_processed` frames of the dataset cover: the
+// span of their timestamps plus one frame period (each frame stands for one period; a single
+// frame covers one period). 0 when the frame rate is unknown (fewer than two frames).
+double processedSequenceSeconds(const DatasetIndex& index, size_t frames_processed);
+
 // The human-readable lines `omnidso run` and `make demo` print.
 void printRunSummary(std::ostream& os, const nlohmann::json& summary);
 
