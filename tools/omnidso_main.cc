@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   omnidso::cli::registerDatasetCommand(app);
   omnidso::cli::registerRunCommand(app);
   omnidso::cli::registerAblateCommand(app);
+  omnidso::cli::registerCalibrateCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -58,28 +58,22 @@ std::vector<Sample> bearingSamples(const Camera& source, int per_axis, int bound
   return samples;
 }
 
-// Per target model: starting values of the parameters after [fx, fy, cx, cy], and bounds that
-// keep the solver inside Camera::create's ranges (ξ ≥ 0 or DS ξ > −1, α ∈ [0, 1], β > 0).
+// Per target model: starting values of the parameters after [fx, fy, cx, cy], and the bounds
+// of cameraParameterBounds.
 struct ModelStarts {
   std::vector<std::vector<double>> extras;
-  std::vector<std::pair<int, std::pair<double, double>>> bounds;  // index, (lower, upper)
+  std::vector<ParameterBound> bounds;
 };
 
 ModelStarts startsFor(const std::string& name) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   const std::vector<double> no_distortion{0, 0, 0, 0};
-  if (name == "ucm") return {{{0.0}, {0.5}, {1.0}}, {{4, {0.0, kInf}}}};
-  if (name == "ucm-radtan") {
-    return {{{0, 0, 0, 0, 0}, {0.5, 0, 0, 0, 0}, {1.0, 0, 0, 0, 0}}, {{4, {0.0, kInf}}}};
-  }
-  if (name == "eucm") {
-    return {{{0.3, 1.0}, {0.5, 1.0}, {0.6, 1.2}}, {{4, {0.0, 1.0}}, {5, {1e-6, kInf}}}};
-  }
-  if (name == "ds") {
-    return {{{0.0, 0.5}, {0.0, 0.6}, {0.2, 0.5}}, {{4, {-1.0 + 1e-6, kInf}}, {5, {0.0, 1.0}}}};
-  }
-  if (name == "kb4" || name == "pinhole-radtan") return {{no_distortion}, {}};
-  return {{{}}, {}};
+  const std::vector<ParameterBound> bounds = cameraParameterBounds(name);
+  if (name == "ucm") return {{{0.0}, {0.5}, {1.0}}, bounds};
+  if (name == "ucm-radtan") return {{{0, 0, 0, 0, 0}, {0.5, 0, 0, 0, 0}, {1.0, 0, 0, 0, 0}}, bounds};
+  if (name == "eucm") return {{{0.3, 1.0}, {0.5, 1.0}, {0.6, 1.2}}, bounds};
+  if (name == "ds") return {{{0.0, 0.5}, {0.0, 0.6}, {0.2, 0.5}}, bounds};
+  if (name == "kb4" || name == "pinhole-radtan") return {{no_distortion}, bounds};
+  return {{{}}, bounds};
 }
 
 // Pixels per radian along +x at the principal point: the focal length as the image sees it
@@ -111,14 +105,7 @@ double solveFrom(Eigen::VectorXd& params, const std::vector<Sample>& samples,
             new BearingPixelResidual<Model>{s.bearing, s.pixel, penalty_px}),
         nullptr, params.data());
   }
-  problem.SetParameterLowerBound(params.data(), 0, 1e-6);
-  problem.SetParameterLowerBound(params.data(), 1, 1e-6);
-  for (const auto& [index, range] : starts.bounds) {
-    if (std::isfinite(range.first))
-      problem.SetParameterLowerBound(params.data(), index, range.first);
-    if (std::isfinite(range.second))
-      problem.SetParameterUpperBound(params.data(), index, range.second);
-  }
+  setParameterBounds(problem, params.data(), starts.bounds);
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;
   options.max_num_iterations = max_iterations;
@@ -181,6 +168,29 @@ Eigen::VectorXd fitByName(const Camera& source, const std::string& name,
 }
 
 }  // namespace
+
+std::vector<ParameterBound> cameraParameterBounds(const std::string& name) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<ParameterBound> bounds = {{0, 1e-6, kInf}, {1, 1e-6, kInf}};
+  if (name == "ucm" || name == "ucm-radtan") bounds.push_back({4, 0.0, kInf});
+  if (name == "eucm") {
+    bounds.push_back({4, 0.0, 1.0});
+    bounds.push_back({5, 1e-6, kInf});
+  }
+  if (name == "ds") {
+    bounds.push_back({4, -1.0 + 1e-6, kInf});
+    bounds.push_back({5, 0.0, 1.0});
+  }
+  return bounds;
+}
+
+void setParameterBounds(ceres::Problem& problem, double* params,
+                        const std::vector<ParameterBound>& bounds) {
+  for (const ParameterBound& b : bounds) {
+    if (std::isfinite(b.lower)) problem.SetParameterLowerBound(params, b.index, b.lower);
+    if (std::isfinite(b.upper)) problem.SetParameterUpperBound(params, b.index, b.upper);
+  }
+}
 
 std::vector<Eigen::Vector2d> fitSamplePixels(const Camera& source, int per_axis,
                                              int boundary_samples) {

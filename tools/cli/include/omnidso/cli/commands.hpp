@@ -14,5 +14,6 @@ void registerSynthCommand(CLI::App& app);    // omnidso synth (synthetic dataset
 void registerDatasetCommand(CLI::App& app);  // omnidso dataset info
 void registerRunCommand(CLI::App& app);      // omnidso run (the odometry)
 void registerAblateCommand(CLI::App& app);   // omnidso ablate (the paper's ablation)
+void registerCalibrateCommand(CLI::App& app);  // omnidso calibrate (chessboard images)
 
 }  // namespace omnidso::cli

@@ -1,0 +1,110 @@
+#include "omnidso/cameras/calibration/board_detection.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <regex>
+
+#include "omnidso/core/error.hpp"
+
+namespace omnidso {
+namespace fs = std::filesystem;
+
+Eigen::Vector3d BoardSpec::corner(int k) const {
+  return Eigen::Vector3d((k % cols) * square, (k / cols) * square, 0.0);
+}
+
+BoardSpec parseBoardSpec(const std::string& text, double square) {
+  static const std::regex pattern(R"(^\s*(\d{1,4})\s*(?:x|X|×)\s*(\d{1,4})\s*$)");
+  std::smatch m;
+  if (!std::regex_match(text, m, pattern)) {
+    throw Error("--board '" + text + "': expected COLSxROWS inner corners, e.g. 8x6");
+  }
+  BoardSpec board{std::stoi(m[1]), std::stoi(m[2]), square};
+  if (board.cols < 2 || board.rows < 2) {
+    throw Error("--board '" + text + "': a board needs at least 2x2 inner corners");
+  }
+  if (!(square > 0.0) || !std::isfinite(square)) {
+    throw Error("--square " + std::to_string(square) + ": the square side must be positive");
+  }
+  return board;
+}
+
+std::vector<std::string> listImageFiles(const std::string& folder) {
+  if (!fs::exists(folder)) throw fileError(folder, "no such folder");
+  if (!fs::is_directory(folder)) throw fileError(folder, "not a folder");
+  static const std::vector<std::string> extensions = {".png", ".jpg", ".jpeg", ".bmp",
+                                                      ".tif", ".tiff", ".pgm", ".ppm"};
+  std::vector<std::string> files;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    if (!entry.is_regular_file()) continue;
+    std::string ext = entry.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (std::find(extensions.begin(), extensions.end(), ext) != extensions.end())
+      files.push_back(entry.path().string());
+  }
+  if (files.empty()) {
+    throw fileError(folder, "no image files (.png .jpg .jpeg .bmp .tif .tiff .pgm .ppm)");
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::vector<Eigen::Vector2d> detectBoardCorners(const cv::Mat& grey, const BoardSpec& board) {
+  const cv::Size pattern(board.cols, board.rows);
+  std::vector<cv::Point2f> found;
+  bool ok = cv::findChessboardCornersSB(grey, pattern, found,
+                                        cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_ACCURACY);
+  if (!ok) {
+    found.clear();
+    ok = cv::findChessboardCorners(
+        grey, pattern, found, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
+    if (ok) {
+      cv::cornerSubPix(grey, found, cv::Size(5, 5), cv::Size(-1, -1),
+                       cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50,
+                                        1e-3));
+    }
+  }
+  std::vector<Eigen::Vector2d> corners;
+  if (!ok || static_cast<int>(found.size()) != board.numCorners()) return corners;
+  for (const cv::Point2f& p : found) corners.emplace_back(p.x, p.y);
+  return corners;
+}
+
+BoardDetections detectBoardsInFolder(const std::string& folder, const BoardSpec& board) {
+  const std::vector<std::string> files = listImageFiles(folder);
+  BoardDetections out;
+  for (const std::string& file : files) {
+    const cv::Mat grey = cv::imread(file, cv::IMREAD_GRAYSCALE);
+    if (grey.empty()) throw fileError(file, "cannot read the image (corrupt or unsupported)");
+    if (out.width == 0) {
+      out.width = grey.cols;
+      out.height = grey.rows;
+    } else if (grey.cols != out.width || grey.rows != out.height) {
+      throw fileError(file, "image size " + std::to_string(grey.cols) + "x" +
+                                std::to_string(grey.rows) + " differs from " +
+                                std::to_string(out.width) + "x" + std::to_string(out.height) +
+                                " of " + files.front() + " (one camera per calibration)");
+    }
+    std::vector<Eigen::Vector2d> corners = detectBoardCorners(grey, board);
+    if (corners.empty()) {
+      out.without_board.push_back(file);
+    } else {
+      out.views.push_back({file, std::move(corners)});
+    }
+  }
+  if (out.views.empty()) {
+    throw fileError(folder, "no " + std::to_string(board.cols) + "x" +
+                                std::to_string(board.rows) + " chessboard found in any of the " +
+                                std::to_string(files.size()) +
+                                " images; check --board (inner corners, COLSxROWS)");
+  }
+  return out;
+}
+
+}  // namespace omnidso

@@ -1,0 +1,162 @@
+#include "omnidso/cameras/calibration/calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "omnidso/cameras/calibration/initial_estimate.hpp"
+#include "omnidso/cameras/model_fitting.hpp"
+#include "omnidso/core/error.hpp"
+
+namespace omnidso {
+namespace {
+
+constexpr int kMinViews = 4;
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto mid = values.begin() + static_cast<long>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+double viewRms(const std::vector<Eigen::Vector2d>& residuals, const std::vector<bool>& used) {
+  double sum = 0.0;
+  int n = 0;
+  for (size_t k = 0; k < residuals.size(); ++k) {
+    if (!used[k]) continue;
+    sum += residuals[k].allFinite() ? residuals[k].squaredNorm()
+                                    : std::numeric_limits<double>::infinity();
+    ++n;
+  }
+  return n > 0 ? std::sqrt(sum / n) : std::numeric_limits<double>::infinity();
+}
+
+// Step 3 of the header on the reference residuals.
+void dropOutliers(const BoardDetections& detections, const BoardAdjustment& reference,
+                  const CalibrationOptions& options, CalibrationReport& report) {
+  CornerSelection& s = report.selection;
+  std::vector<double> components;
+  for (size_t v = 0; v < reference.residuals.size(); ++v)
+    for (const Eigen::Vector2d& r : reference.residuals[v])
+      if (r.allFinite()) components.insert(components.end(), {std::abs(r.x()), std::abs(r.y())});
+  const double sigma = 1.4826 * median(components);
+  report.outlier_threshold_px = std::max(options.corner_sigmas * sigma, options.min_outlier_px);
+  std::vector<double> view_rms;
+  for (size_t v = 0; v < reference.residuals.size(); ++v) {
+    for (size_t k = 0; k < reference.residuals[v].size(); ++k) {
+      const Eigen::Vector2d& r = reference.residuals[v][k];
+      s.corner_used[v][k] = r.allFinite() && r.norm() <= report.outlier_threshold_px;
+    }
+    view_rms.push_back(viewRms(reference.residuals[v], s.corner_used[v]));
+  }
+  const double view_threshold =
+      std::max(options.view_factor * median(view_rms), options.min_outlier_px);
+  for (size_t v = 0; v < view_rms.size(); ++v) {
+    const int kept = static_cast<int>(std::count(s.corner_used[v].begin(), s.corner_used[v].end(), true));
+    std::ostringstream reason;
+    reason.precision(3);
+    if (2 * kept < static_cast<int>(s.corner_used[v].size())) {
+      reason << detections.views[v].image << ": only " << kept << " of "
+             << s.corner_used[v].size() << " corners within " << report.outlier_threshold_px
+             << " px";
+    } else if (view_rms[v] > view_threshold) {
+      reason << detections.views[v].image << ": RMS " << view_rms[v] << " px > "
+             << view_threshold << " px (" << options.view_factor << " x the median view)";
+    } else {
+      report.dropped_corners += static_cast<int>(s.corner_used[v].size()) - kept;
+      continue;
+    }
+    s.view_used[v] = false;
+    report.dropped_views.push_back(reason.str());
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> parseModelList(const std::string& comma_separated) {
+  std::vector<std::string> models;
+  std::stringstream in(comma_separated);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (item.empty()) continue;
+    const std::string name = canonicalCameraModelName(item);
+    if (std::find(models.begin(), models.end(), name) != models.end())
+      throw Error("--models: '" + item + "' names " + name + " a second time");
+    models.push_back(name);
+  }
+  if (models.empty()) throw Error("--models: no model given");
+  return models;
+}
+
+ModelCalibration summariseFit(BoardAdjustment fit, const CornerSelection& selection) {
+  ModelCalibration m{std::move(fit)};
+  const int n = selection.numCorners();
+  const Camera& camera = m.fit.camera;
+  for (size_t v = 0; v < m.fit.residuals.size(); ++v) {
+    if (!selection.view_used[v]) {
+      m.view_rms_px.push_back(std::numeric_limits<double>::quiet_NaN());
+      continue;
+    }
+    const std::vector<Eigen::Vector2d>& residuals = m.fit.residuals[v];
+    m.view_rms_px.push_back(viewRms(residuals, selection.corner_used[v]));
+    for (size_t k = 0; k < residuals.size(); ++k)
+      if (selection.corner_used[v][k])
+        m.max_px = std::max(m.max_px, residuals[k].allFinite()
+                                          ? residuals[k].norm()
+                                          : std::numeric_limits<double>::infinity());
+  }
+  m.rms_px = n > 0 ? std::sqrt(m.fit.sum_squared_px / n) : 0.0;
+  m.num_params = static_cast<int>(camera.params().size());
+  const double num_residuals = 2.0 * n;
+  m.bic = num_residuals * std::log(std::max(m.fit.sum_squared_px, 1e-300) / num_residuals) +
+          m.num_params * std::log(num_residuals);
+  m.fov = fieldOfView(camera);
+  return m;
+}
+
+CalibrationReport calibrateModels(const BoardDetections& detections, const BoardSpec& board,
+                                  const std::vector<std::string>& models,
+                                  const CalibrationOptions& options) {
+  CalibrationReport report;
+  report.selection = CornerSelection::all(detections);
+  const auto tooFew = [&](const std::string& when) {
+    return Error("calibration: " + std::to_string(report.selection.numViews()) +
+                 " usable views " + when + "; at least " + std::to_string(kMinViews) +
+                 " are needed (images without a board: " +
+                 std::to_string(detections.without_board.size()) + ")");
+  };
+  if (report.selection.numViews() < kMinViews) throw tooFew("show the board");
+
+  const InitialCalibration start = initialEquidistantCalibration(detections, board);
+  AdjustmentOptions reference_options = options.adjustment;
+  reference_options.compute_covariance = false;
+  BoardAdjustment reference = adjustBoards(detections, board, report.selection, start.camera,
+                                           start.T_camera_board, reference_options);
+  dropOutliers(detections, reference, options, report);
+  if (report.selection.numViews() < kMinViews) throw tooFew("remain after dropping outliers");
+  reference = adjustBoards(detections, board, report.selection, reference.camera,
+                           reference.T_camera_board, options.adjustment);
+
+  FitOptions conversion;
+  conversion.samples_per_axis = 24;
+  conversion.validation_per_axis = 24;
+  conversion.boundary_samples = 90;
+  for (const std::string& name : models) {
+    BoardAdjustment fit = reference;
+    if (name != "kb4") {
+      const Camera model_start = fitCameraModel(reference.camera, name, conversion).camera;
+      fit = adjustBoards(detections, board, report.selection, model_start,
+                         reference.T_camera_board, options.adjustment);
+    }
+    report.models.push_back(summariseFit(std::move(fit), report.selection));
+  }
+  for (size_t i = 1; i < report.models.size(); ++i)
+    if (report.models[i].bic < report.models[report.selected].bic) report.selected = i;
+  return report;
+}
+
+}  // namespace omnidso
