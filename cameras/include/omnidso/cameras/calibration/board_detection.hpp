@@ -5,8 +5,9 @@
 // metres. Its corners lie in the board plane z = 0 at (c·square, r·square), c = 0..COLS−1,
 // r = 0..ROWS−1, in OpenCV's row-major order (which findChessboardCorners reports).
 //
-// Detection: cv::findChessboardCornersSB (sector-based, sub-pixel by construction); where it
-// finds nothing, cv::findChessboardCorners + cv::cornerSubPix (11 × 11 window). Corners are
+// Detection: cv::findChessboardCornersSB (sector-based) on the image halved, then at full
+// resolution, then cv::findChessboardCorners; the corners found are refined by
+// cv::cornerSubPix at full resolution (window a third of the corner spacing). Corners are
 // returned in this project's pixel convention (centre of the top-left pixel at (0, 0)), which
 // is OpenCV's.
 
