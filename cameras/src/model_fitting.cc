@@ -119,7 +119,7 @@ double solveFrom(Eigen::VectorXd& params, const std::vector<Sample>& samples,
 }
 
 template <typename Model>
-Eigen::VectorXd fitParameters(const Camera& source, const std::string& target_name,
+std::vector<Eigen::VectorXd> fitParameters(const Camera& source, const std::string& target_name,
                               const std::vector<Sample>& samples, const FitOptions& options) {
   const Eigen::VectorXd src = source.params();
   const double penalty_px = std::hypot(source.width(), source.height());
@@ -142,21 +142,22 @@ Eigen::VectorXd fitParameters(const Camera& source, const std::string& target_na
       initial.push_back(p);
     }
   }
-  Eigen::VectorXd best;
-  double best_cost = std::numeric_limits<double>::infinity();
+  // (cost, parameters) of every start, lowest cost first.
+  std::vector<std::pair<double, Eigen::VectorXd>> solved;
   for (Eigen::VectorXd p : initial) {
     const double cost = solveFrom<Model>(p, samples, starts, penalty_px, options.max_iterations);
-    if (cost < best_cost) {
-      best_cost = cost;
-      best = p;
-    }
+    if (std::isfinite(cost)) solved.emplace_back(cost, p);
   }
-  if (best.size() == 0) throw Error("fitting '" + target_name + "': no usable initialisation");
-  return best;
+  if (solved.empty()) throw Error("fitting '" + target_name + "': no usable initialisation");
+  std::stable_sort(solved.begin(), solved.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<Eigen::VectorXd> out;
+  for (auto& [cost, p] : solved) out.push_back(std::move(p));
+  return out;
 }
 
 template <size_t I = 0>
-Eigen::VectorXd fitByName(const Camera& source, const std::string& name,
+std::vector<Eigen::VectorXd> fitByName(const Camera& source, const std::string& name,
                           const std::vector<Sample>& samples, const FitOptions& options) {
   if constexpr (I == std::variant_size_v<CameraModelVariant>) {
     throw Error("unknown camera model '" + name + "'");
@@ -190,6 +191,18 @@ void setParameterBounds(ceres::Problem& problem, double* params,
     if (std::isfinite(b.lower)) problem.SetParameterLowerBound(params, b.index, b.lower);
     if (std::isfinite(b.upper)) problem.SetParameterUpperBound(params, b.index, b.upper);
   }
+}
+
+std::vector<Camera> fitCameraModelStarts(const Camera& source, const std::string& target_model,
+                                         const FitOptions& options) {
+  const std::string name = canonicalCameraModelName(target_model);
+  const std::vector<Sample> samples =
+      bearingSamples(source, options.samples_per_axis, options.boundary_samples);
+  if (samples.empty()) throw Error("fitting '" + name + "': the source has no valid pixels");
+  std::vector<Camera> cameras;
+  for (const Eigen::VectorXd& p : fitByName(source, name, samples, options))
+    cameras.push_back(Camera::create(name, p, source.width(), source.height()));
+  return cameras;
 }
 
 std::vector<Eigen::Vector2d> fitSamplePixels(const Camera& source, int per_axis,
@@ -230,7 +243,7 @@ FitResult fitCameraModel(const Camera& source, const std::string& target_model,
   const std::vector<Sample> samples =
       bearingSamples(source, options.samples_per_axis, options.boundary_samples);
   if (samples.empty()) throw Error("fitting '" + name + "': the source has no valid pixels");
-  const Eigen::VectorXd params = fitByName(source, name, samples, options);
+  const Eigen::VectorXd params = fitByName(source, name, samples, options).front();
 
   FitResult result{Camera::create(name, params, source.width(), source.height())};
   result.num_samples = static_cast<int>(samples.size());

@@ -74,7 +74,7 @@ TEST_P(CalibrationSyntheticTest, RecoversExactParametersWithoutNoise) {
   const CalibrationReport r = calibrateModels(d, board, {GetParam().model});
   const ModelCalibration& m = r.models.at(0);
   EXPECT_EQ(r.selection.numViews(), static_cast<int>(d.views.size()));
-  EXPECT_LT(m.rms_px, 1e-6);
+  EXPECT_LT(m.rms_px, 1e-6) << m.fit.iterations << " iterations, converged " << m.fit.converged;
   const Eigen::VectorXd p = m.fit.camera.params();
   const Eigen::VectorXd expected = truth.params();
   for (int i = 0; i < p.size(); ++i) {

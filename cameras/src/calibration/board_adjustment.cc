@@ -77,15 +77,21 @@ BoardAdjustment adjustModel(const BoardDetections& detections, const BoardSpec& 
     }
   }
   setParameterBounds(problem, intrinsics.data(), cameraParameterBounds(Model::kName));
+  if (options.fix_poses)
+    for (size_t v = 0; v < poses.size(); ++v)
+      if (selection.view_used[v]) problem.SetParameterBlockConstant(poses[v].data());
 
   ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_SCHUR;
+  solver.linear_solver_type = options.fix_poses ? ceres::DENSE_QR : ceres::DENSE_SCHUR;
   // Poses eliminated first, then the intrinsics. Within a group Ceres orders blocks by
   // address; the poses live in one vector, so that order is the view order in every run.
-  solver.linear_solver_ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-  for (size_t v = 0; v < poses.size(); ++v)
-    if (selection.view_used[v]) solver.linear_solver_ordering->AddElementToGroup(poses[v].data(), 0);
-  solver.linear_solver_ordering->AddElementToGroup(intrinsics.data(), 1);
+  if (!options.fix_poses) {
+    solver.linear_solver_ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (size_t v = 0; v < poses.size(); ++v)
+      if (selection.view_used[v])
+        solver.linear_solver_ordering->AddElementToGroup(poses[v].data(), 0);
+    solver.linear_solver_ordering->AddElementToGroup(intrinsics.data(), 1);
+  }
   solver.max_num_iterations = options.max_iterations;
   solver.function_tolerance = 1e-15;
   solver.gradient_tolerance = 1e-15;

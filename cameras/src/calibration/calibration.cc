@@ -13,6 +13,7 @@ namespace omnidso {
 namespace {
 
 constexpr int kMinViews = 4;
+constexpr int kScreenIterations = 30;
 
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
@@ -71,6 +72,30 @@ void dropOutliers(const BoardDetections& detections, const BoardAdjustment& refe
     s.view_used[v] = false;
     report.dropped_views.push_back(reason.str());
   }
+}
+
+// Of the starts converted from the reference (each a different local fit of the model to
+// the reference over the whole image), the one that fits the corners best with the
+// reference's poses held: a cheap screen (no pose updates, a few iterations) before the
+// full adjustment, which would otherwise follow whichever basin the first start lies in.
+Camera bestStart(const BoardDetections& detections, const BoardSpec& board,
+                 const CornerSelection& selection, const BoardAdjustment& reference,
+                 const std::vector<Camera>& starts) {
+  if (starts.size() == 1) return starts.front();
+  AdjustmentOptions screen;
+  screen.fix_poses = true;
+  screen.max_iterations = kScreenIterations;
+  screen.compute_covariance = false;
+  size_t best = 0;
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<Camera> screened;
+  for (size_t i = 0; i < starts.size(); ++i) {
+    const BoardAdjustment fit =
+        adjustBoards(detections, board, selection, starts[i], reference.T_camera_board, screen);
+    screened.push_back(fit.camera);
+    if (fit.sum_squared_px < best_cost) best_cost = fit.sum_squared_px, best = i;
+  }
+  return screened[best];
 }
 
 }  // namespace
@@ -148,8 +173,9 @@ CalibrationReport calibrateModels(const BoardDetections& detections, const Board
   for (const std::string& name : models) {
     BoardAdjustment fit = reference;
     if (name != "kb4") {
-      const Camera model_start = fitCameraModel(reference.camera, name, conversion).camera;
-      fit = adjustBoards(detections, board, report.selection, model_start,
+      fit = adjustBoards(detections, board, report.selection,
+                         bestStart(detections, board, report.selection, reference,
+                                   fitCameraModelStarts(reference.camera, name, conversion)),
                          reference.T_camera_board, options.adjustment);
     }
     report.models.push_back(summariseFit(std::move(fit), report.selection));

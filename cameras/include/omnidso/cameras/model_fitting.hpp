@@ -60,6 +60,12 @@ struct FitResult {
 FitResult fitCameraModel(const Camera& source, const std::string& target_model,
                          const FitOptions& options = FitOptions());
 
+// The solution from every start fitCameraModel tries, lowest fitting cost first (the first is
+// fitCameraModel's camera). For callers that refine further on other data (calibration),
+// where the start that fits the source best need not lead to the best minimum.
+std::vector<Camera> fitCameraModelStarts(const Camera& source, const std::string& target_model,
+                                         const FitOptions& options = FitOptions());
+
 // The validation pixels of `source` used by fitCameraModel (valid pixels of a grid with
 // `per_axis` samples along the longer side, half a step in from the border, plus
 // `boundary_samples` points on the boundary of the valid region), so that callers can check

@@ -39,6 +39,7 @@ struct AdjustmentOptions {
   double huber_px = 1.0;
   int max_iterations = 200;
   bool compute_covariance = true;
+  bool fix_poses = false;  // intrinsics only (screening starts against known poses)
 };
 
 struct BoardAdjustment {

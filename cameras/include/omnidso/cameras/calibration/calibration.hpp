@@ -10,8 +10,11 @@
 //    a corner is dropped when ‖r‖ > max(corner_sigmas · σ̂, min_outlier_px), then a view
 //    when its RMS exceeds max(view_factor · median view RMS, min_outlier_px) or fewer than
 //    half of its corners remain. The reference is re-adjusted on what is kept.
-// 4. Each model: KB4 (the reference itself) or fitCameraModel(reference → model) as its
-//    start with the reference's poses, then adjusted over the kept corners.
+// 4. Each model: KB4 is the reference itself; another model is converted from the reference
+//    (fitCameraModelStarts: one solution per standard start), each conversion refined on the
+//    corners with the reference's poses held (30 iterations), and the best one adjusted in
+//    full over the kept corners. The screen matters where a model has separate basins that
+//    fit nearly equally (Double Sphere's ξ and fx trade off along a curved valley).
 // 5. Selection, by the Bayesian information criterion over the m = 2·corners residuals:
 //      BIC = m ln(RSS/m) + k ln(m),  k = number of intrinsic parameters
 //    (the board poses are the same 6 per view for every model and cancel in comparisons).
