@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 DEMO_DIR ?= $(BUILD_DIR)/demo
 
-.PHONY: all deps configure build demo test test-all bench clean
+.PHONY: all deps configure build demo test test-all test-slurm bench clean test-asan test-tsan fuzz
 
 all: build
 
@@ -24,6 +24,12 @@ test: build
 test-all: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure --parallel $(JOBS)
 
+# `omnidso ablate --executor slurm` through a real single-node Slurm that the test starts
+# (installs slurm-wlm, slurmdbd, munge, mariadb-server and parallel; run as root).
+test-slurm: build
+	@bash tools/install_deps.sh slurm
+	@cd $(BUILD_DIR) && ctest --output-on-failure -R '^SlurmClusterTest\.'
+
 bench: build
 	@$(BUILD_DIR)/benchmarks/omnidso_benchmarks $(BENCH_ARGS)
 
@@ -32,3 +38,42 @@ demo: build
 
 clean:
 	@rm -rf $(BUILD_DIR)
+
+# Sanitizer trees (docs/architecture.md, "Sanitizers and fuzzing"): -O1 with line tables and
+# assertions on; Eigen, Ceres and OpenCV come from Debian uninstrumented. Warnings are
+# enforced by the Release tree (sanitizers make GCC's flow analysis report false ones).
+SANITIZER_CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1" \
+  -DOMNIDSO_BUILD_BENCHMARKS=OFF -DOMNIDSO_WERROR=OFF
+ASAN_DIR ?= build-asan
+TSAN_DIR ?= build-tsan
+FUZZ_DIR ?= build-fuzz
+# The real-time mode's threads: the mapping worker, and the odometry end to end with mapping
+# in its own thread (`omnidso run --threads 2` on a rendered sequence).
+TSAN_TESTS ?= MappingWorker|RealTimeMode
+
+# AddressSanitizer + UndefinedBehaviorSanitizer, first report fatal, on the fast tests.
+test-asan: deps
+	@cmake -S . -B $(ASAN_DIR) $(SANITIZER_CMAKE_FLAGS) \
+	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" >/dev/null
+	@cmake --build $(ASAN_DIR) --parallel $(JOBS)
+	@cd $(ASAN_DIR) && ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+	  UBSAN_OPTIONS=print_stacktrace=1 \
+	  ctest --output-on-failure --parallel $(JOBS) --label-exclude 'slow|fuzz'
+
+# ThreadSanitizer on the threaded tests; tools/tsan.supp silences uninstrumented libraries only.
+test-tsan: deps
+	@cmake -S . -B $(TSAN_DIR) $(SANITIZER_CMAKE_FLAGS) \
+	  -DCMAKE_CXX_FLAGS="-fsanitize=thread -fno-omit-frame-pointer" >/dev/null
+	@cmake --build $(TSAN_DIR) --parallel $(JOBS) --target omnidso omnidso_frontend_tests \
+	  omnidso_end_to_end_tests
+	@cd $(TSAN_DIR) && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$(CURDIR)/tools/tsan.supp" \
+	  ctest --output-on-failure --parallel $(JOBS) -R '$(TSAN_TESTS)'
+
+# libFuzzer on every reader, 60 s each (clang; ctest label `fuzz`, not part of `make test`).
+fuzz:
+	@bash tools/install_deps.sh --fuzz
+	@cmake -S . -B $(FUZZ_DIR) $(SANITIZER_CMAKE_FLAGS) -DCMAKE_CXX_COMPILER=clang++ \
+	  -DOMNIDSO_BUILD_TESTS=OFF -DOMNIDSO_BUILD_FUZZERS=ON \
+	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all" >/dev/null
+	@cmake --build $(FUZZ_DIR) --parallel $(JOBS) --target omnidso_fuzzers
+	@cd $(FUZZ_DIR) && ctest --output-on-failure --parallel $(JOBS) --label-regex fuzz

@@ -10,6 +10,15 @@ packages=(
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
+# `install_deps.sh slurm`: instead, what `make test-slurm` needs — a local Slurm cluster with
+# accounting (sacct) and GNU parallel, for `omnidso ablate --executor slurm|parallel`.
+if [ "${1:-}" = slurm ]; then
+  packages=(slurm-wlm slurmdbd munge mariadb-server parallel)
+fi
+# `make fuzz` only: libFuzzer comes with clang's runtime libraries.
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang libclang-rt-dev)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

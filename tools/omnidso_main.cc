@@ -14,11 +14,16 @@ int main(int argc, char** argv) {
   omnidso::cli::registerDatasetCommand(app);
   omnidso::cli::registerRunCommand(app);
   omnidso::cli::registerAblateCommand(app);
+  omnidso::cli::registerAblateTaskCommand(app);
   omnidso::cli::registerCalibrateCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0 with their text; a bad command line is bad input like a bad
+    // file: one "omnidso: error:" line and status 2.
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    std::cerr << "omnidso: error: " << e.what() << " (omnidso --help)\n";
+    return 2;
   } catch (const omnidso::Error& e) {
     std::cerr << "omnidso: error: " << e.what() << "\n";
     return 2;

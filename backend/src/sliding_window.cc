@@ -16,6 +16,12 @@
 
 namespace omnidso {
 
+bool hostPatchFits(const ImageF& image, const Eigen::Vector2d& pixel) {
+  const double margin = patternRadius<kWindowPatternSize>() + 1.0;
+  return pixel.x() >= margin && pixel.y() >= margin && pixel.x() <= image.width() - 1 - margin &&
+         pixel.y() <= image.height() - 1 - margin;
+}
+
 SlidingWindow::SlidingWindow(const std::string& model_name, const Eigen::VectorXd& intrinsics,
                              WindowOptions options)
     : options_(options),
@@ -129,10 +135,7 @@ std::optional<WindowObservation> SlidingWindow::observation(const WindowPoint& p
     const ImageF& image = host.pyramid->level(level);
     const Eigen::Vector2d pixel(pixelToLevel(point.pixel.x(), level),
                                 pixelToLevel(point.pixel.y(), level));
-    const double margin = patternRadius<kWindowPatternSize>() + 1.0;
-    if (!(pixel.x() >= margin && pixel.y() >= margin && pixel.x() <= image.width() - 1 - margin &&
-          pixel.y() <= image.height() - 1 - margin))
-      return std::nullopt;
+    if (!hostPatchFits(image, pixel)) return std::nullopt;
     obs.host = makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(level), pixel,
                                                  options_.gradient_weight_c);
   }
@@ -162,11 +165,7 @@ bool SlidingWindow::addResidual(WindowPoint& point, WindowKeyframe& target, int 
 int SlidingWindow::addPoint(int host_id, const Eigen::Vector2d& pixel, double inverse_distance) {
   const WindowKeyframe& host = keyframe(host_id);
   const ImageF& image = host.pyramid->level(0);
-  // The pattern plus the bilinear footprint must stay inside the host image.
-  const double margin = patternRadius<kWindowPatternSize>() + 1.0;
-  if (!(pixel.x() >= margin && pixel.y() >= margin && pixel.x() <= image.width() - 1 - margin &&
-        pixel.y() <= image.height() - 1 - margin))
-    return -1;
+  if (!hostPatchFits(image, pixel)) return -1;
   auto point = std::make_unique<WindowPoint>(*inverse_distance_slots_.acquire());
   point->id = next_point_id_;
   point->host_id = host_id;

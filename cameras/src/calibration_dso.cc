@@ -62,8 +62,10 @@ std::pair<int, int> imageSize(const std::string& path, int line_no, const std::s
     v.clear();  // reported below, with what the line should hold
   }
   if (v.size() != 2 || v[0] < 1 || v[1] < 1 || v[0] != std::floor(v[0]) ||
-      v[1] != std::floor(v[1])) {
-    throw fileError(path, line_no, "expected '" + what + "' (two positive integers)");
+      v[1] != std::floor(v[1]) || v[0] > kMaxImageSide || v[1] > kMaxImageSide) {
+    throw fileError(path, line_no,
+                    "expected '" + what + "' (two integers in [1, " +
+                        std::to_string(kMaxImageSide) + "])");
   }
   return {static_cast<int>(v[0]), static_cast<int>(v[1])};
 }

@@ -51,6 +51,12 @@ class FieldReader {
     if (!n) throw error(key, "missing");
     return n;
   }
+  // A nested mapping (T_BS): anything else would make its fields unreadable.
+  const YAML::Node map(const std::string& key) const {
+    const YAML::Node n = node(key);
+    if (!n.IsMap()) throw error(key, "expected a mapping");
+    return n;
+  }
 
   std::string text(const std::string& key) const {
     const YAML::Node n = node(key);
@@ -90,8 +96,10 @@ class FieldReader {
   std::pair<int, int> resolution() const {
     const std::vector<double> r = numbers("resolution");
     requireCount("resolution", r, 2, "[width, height]");
-    if (r[0] < 1 || r[1] < 1 || r[0] != std::floor(r[0]) || r[1] != std::floor(r[1])) {
-      throw error("resolution", "width and height must be positive integers");
+    if (r[0] < 1 || r[1] < 1 || r[0] != std::floor(r[0]) || r[1] != std::floor(r[1]) ||
+        r[0] > kMaxImageSide || r[1] > kMaxImageSide) {
+      throw error("resolution", "width and height must be integers in [1, " +
+                                    std::to_string(kMaxImageSide) + "]");
     }
     return {static_cast<int>(r[0]), static_cast<int>(r[1])};
   }
@@ -192,7 +200,7 @@ SensorCalibration loadEurocSensor(const std::string& path) {
   const FieldReader f(path, root, "");
   Camera camera = cameraFromKalibrFields(f, "distortion_coefficients");
 
-  const FieldReader t(path, f.node("T_BS"), "T_BS.");
+  const FieldReader t(path, f.map("T_BS"), "T_BS.");
   const std::vector<double> data = t.numbers("data");
   t.requireCount("data", data, 16, "(a row-major 4x4 matrix)");
   Eigen::Matrix4d T = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(data.data());

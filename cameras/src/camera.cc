@@ -102,10 +102,16 @@ Camera Camera::create(const std::string& model_name, const Eigen::VectorXd& para
     throw Error("camera model '" + name + "': focal lengths must be positive, got fx = " +
                 std::to_string(params[0]) + ", fy = " + std::to_string(params[1]));
   }
+  for (int i = 0; i < 4; ++i) {
+    if (std::abs(params[i]) > kMaxPixelMagnitude) {
+      throw Error("camera model '" + name + "': " + (i < 2 ? "focal length " : "principal point ") +
+                  std::to_string(params[i]) + " px is beyond the plausible 1e6 px");
+    }
+  }
   checkModelRanges(name, params);
-  if (width <= 0 || height <= 0) {
-    throw Error("image size must be positive, got " + std::to_string(width) + "x" +
-                std::to_string(height));
+  if (width <= 0 || height <= 0 || width > kMaxImageSide || height > kMaxImageSide) {
+    throw Error("image size must be in [1, " + std::to_string(kMaxImageSide) + "], got " +
+                std::to_string(width) + "x" + std::to_string(height));
   }
   return Camera(std::move(model), width, height);
 }

@@ -1,6 +1,7 @@
 // Layout detection and the checks common to every dataset layout.
 #include <omnidso/core/dataset.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <sstream>
 
@@ -43,25 +44,77 @@ double parseNumber(const std::string& text, const std::string& file, int line,
   throw fileError(file, line, fmt::format("{} '{}' is not a number", what, text));
 }
 
+namespace {
+
+// "a.png (line 3), b.png (line 4), … and 7 more": enough to find them, short enough to read.
+std::string listMissing(const std::vector<DatasetFrame>& missing) {
+  constexpr std::size_t kListed = 5;
+  std::string text;
+  for (std::size_t i = 0; i < std::min(missing.size(), kListed); ++i) {
+    text += fmt::format("{}{} (line {})", i ? ", " : "", missing[i].image_path,
+                        missing[i].index_line);
+  }
+  if (missing.size() > kListed) text += fmt::format(" and {} more", missing.size() - kListed);
+  return text;
+}
+
+// Missing images: one error naming the index file, the first line and the images; or, when
+// asked, the frames dropped with a warning.
+void handleMissingImages(const std::vector<DatasetFrame>& missing, bool skip,
+                         DatasetIndex& index) {
+  if (missing.empty()) return;
+  const DatasetFrame& first = missing.front();
+  const bool at_end = index.frames.empty() || first.index_line > index.frames.back().index_line;
+  if (!skip) {
+    const std::string what =
+        missing.size() == 1
+            ? fmt::format("image '{}' not found", first.image_path)
+            : fmt::format("{} listed images not found{}: {}", missing.size(),
+                          at_end ? " at the end of the list" : "", listMissing(missing));
+    throw fileError(first.index_file, first.index_line,
+                    what + " (omnidso run --skip-missing drops such frames)");
+  }
+  if (index.frames.empty()) {
+    throw fileError(first.index_file, "none of the listed images exists: " + listMissing(missing));
+  }
+  index.warnings.push_back(fmt::format("{}: {} frame(s) dropped, their images are missing: {}",
+                                       first.index_file, missing.size(), listMissing(missing)));
+}
+
+}  // namespace
+
 }  // namespace dataset_detail
 
 const char* datasetLayoutName(DatasetLayout layout) {
   return layout == DatasetLayout::kTum ? "tum" : "asl";
 }
 
-DatasetIndex openDataset(const std::string& path) {
+DatasetIndex openDataset(const std::string& path, const DatasetOpenOptions& options) {
+  try {
+    return dataset_detail::openDatasetIndex(path, options);
+  } catch (const fs::filesystem_error& e) {
+    // A symbolic-link loop or an unreadable directory on the way: bad input like any other.
+    const std::string culprit = e.path1().empty() ? path : e.path1().string();
+    throw fileError(culprit, e.code().message());
+  }
+}
+
+DatasetIndex dataset_detail::openDatasetIndex(const std::string& path,
+                                              const DatasetOpenOptions& options) {
   if (!fs::is_directory(path)) throw fileError(path, "dataset directory not found");
   const fs::path root(path);
-  DatasetIndex index;
+  dataset_detail::LayoutIndex layout;
   if (fs::exists(root / "times.txt") || fs::exists(root / "images")) {
-    index = dataset_detail::readTumIndex(path);
+    layout = dataset_detail::readTumIndex(path);
   } else if (fs::exists(root / "mav0")) {
-    index = dataset_detail::readAslIndex(path);
+    layout = dataset_detail::readAslIndex(path);
   } else {
     throw fileError(path,
                     "not a dataset: expected times.txt and images/ (TUM layout) or "
                     "mav0/cam0/data.csv (ASL layout)");
   }
+  DatasetIndex& index = layout.index;
+  dataset_detail::handleMissingImages(layout.missing_images, options.skip_missing_images, index);
   // Strictly increasing timestamps: the odometry and the evaluation order frames by time.
   for (std::size_t i = 1; i < index.frames.size(); ++i) {
     const DatasetFrame& previous = index.frames[i - 1];
@@ -83,7 +136,7 @@ DatasetIndex openDataset(const std::string& path) {
   }
   index.width = size.width;
   index.height = size.height;
-  return index;
+  return std::move(index);
 }
 
 void verifyDatasetImages(const DatasetIndex& index, bool decode) {

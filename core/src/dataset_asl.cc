@@ -1,4 +1,5 @@
 // The ASL layout of EuRoC and TUM VI: mav0/cam0/data.csv + mav0/cam0/data/*.png.
+#include <charconv>
 #include <filesystem>
 #include <fstream>
 
@@ -11,14 +12,15 @@
 namespace omnidso::dataset_detail {
 namespace fs = std::filesystem;
 
-DatasetIndex readAslIndex(const std::string& root_path) {
+LayoutIndex readAslIndex(const std::string& root_path) {
   const fs::path root(root_path);
   const fs::path cam_dir = root / "mav0" / "cam0";
   const std::string csv_path = (cam_dir / "data.csv").string();
   std::ifstream csv(csv_path);
   if (!csv) throw fileError(csv_path, "missing: the ASL layout lists its frames here");
 
-  DatasetIndex index;
+  LayoutIndex layout;
+  DatasetIndex& index = layout.index;
   index.root = root_path;
   index.layout = DatasetLayout::kAsl;
   std::string line;
@@ -35,27 +37,28 @@ DatasetIndex readAslIndex(const std::string& root_path) {
     DatasetFrame frame;
     // Nanoseconds since the epoch: ~1.4e18 exceeds double's 2^53 integer range, so split
     // into seconds and the remainder before converting (keeps sub-microsecond accuracy).
+    // from_chars, not stoll: 19 digits may exceed int64 (found by fuzzing, fuzz/).
     const std::string& stamp = fields[0];
-    if (stamp.find_first_not_of("0123456789") != std::string::npos || stamp.size() > 19) {
+    long long ns = 0;
+    const auto [end, status] = std::from_chars(stamp.data(), stamp.data() + stamp.size(), ns);
+    if (stamp.find_first_not_of("0123456789") != std::string::npos ||
+        status != std::errc() || end != stamp.data() + stamp.size()) {
       throw fileError(csv_path, line_number,
                       fmt::format("timestamp '{}' is not an integer in nanoseconds", stamp));
     }
-    const long long ns = std::stoll(stamp);
     frame.timestamp_s = static_cast<double>(ns / 1000000000LL) +
                         static_cast<double>(ns % 1000000000LL) * 1e-9;
     frame.exposure_ms = 0.0;  // unknown: the ASL layout does not record it
     frame.id = fs::path(fields[1]).stem().string();
     const fs::path image = cam_dir / "data" / fields[1];
-    if (!fs::is_regular_file(image)) {
-      throw fileError(csv_path, line_number,
-                      fmt::format("image '{}' not found", image.string()));
-    }
     frame.image_path = image.string();
     frame.index_file = csv_path;
     frame.index_line = line_number;
-    index.frames.push_back(std::move(frame));
+    (fs::is_regular_file(image) ? index.frames : layout.missing_images).push_back(std::move(frame));
   }
-  if (index.frames.empty()) throw fileError(csv_path, "empty: no frames listed");
+  if (index.frames.empty() && layout.missing_images.empty()) {
+    throw fileError(csv_path, "empty: no frames listed");
+  }
 
   if (fs::is_regular_file(cam_dir / "sensor.yaml")) {
     index.calibration_paths.push_back((cam_dir / "sensor.yaml").string());
@@ -84,7 +87,7 @@ DatasetIndex readAslIndex(const std::string& root_path) {
       break;
     }
   }
-  return index;
+  return layout;
 }
 
 }  // namespace omnidso::dataset_detail

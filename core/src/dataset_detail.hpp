@@ -9,9 +9,18 @@
 namespace omnidso::dataset_detail {
 
 // The layout-specific readers fill frames, calibration, photometric and ground-truth
-// paths; openDataset() then checks timestamps and reads the first image's size.
-DatasetIndex readTumIndex(const std::string& root);
-DatasetIndex readAslIndex(const std::string& root);
+// paths, and list the frames whose image is missing (image_path: where it was looked for)
+// apart; openDataset() then refuses or drops those, checks timestamps and reads the first
+// image's size.
+struct LayoutIndex {
+  DatasetIndex index;
+  std::vector<DatasetFrame> missing_images;
+};
+// openDataset() without the translation of std::filesystem errors.
+DatasetIndex openDatasetIndex(const std::string& path, const DatasetOpenOptions& options);
+
+LayoutIndex readTumIndex(const std::string& root);
+LayoutIndex readAslIndex(const std::string& root);
 
 // Splits a line on whitespace and/or commas.
 std::vector<std::string> splitFields(const std::string& line);

@@ -24,7 +24,11 @@ std::map<std::string, std::string> listImages(const fs::path& dir) {
   std::map<std::string, std::string> images;
   if (!fs::is_directory(dir)) return images;
   for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
-    if (!entry.is_regular_file() || !isImageExtension(entry.path().extension().string())) {
+    // An entry whose type cannot be read (a symbolic-link loop) is listed: reading it then
+    // fails with an error at its line in times.txt.
+    std::error_code unreadable;
+    const bool regular = entry.is_regular_file(unreadable);
+    if ((!regular && !unreadable) || !isImageExtension(entry.path().extension().string())) {
       continue;
     }
     images.emplace(entry.path().stem().string(), entry.path().string());
@@ -38,7 +42,7 @@ void addIfExists(const fs::path& file, std::optional<std::string>& out) {
 
 }  // namespace
 
-DatasetIndex readTumIndex(const std::string& root_path) {
+LayoutIndex readTumIndex(const std::string& root_path) {
   const fs::path root(root_path);
   const std::string times_path = (root / "times.txt").string();
   std::ifstream times(times_path);
@@ -49,7 +53,8 @@ DatasetIndex readTumIndex(const std::string& root_path) {
   }
   const std::map<std::string, std::string> images = listImages(images_dir);
 
-  DatasetIndex index;
+  LayoutIndex layout;
+  DatasetIndex& index = layout.index;
   index.root = root_path;
   index.layout = DatasetLayout::kTum;
   std::string line;
@@ -72,18 +77,20 @@ DatasetIndex readTumIndex(const std::string& root_path) {
         throw fileError(times_path, line_number, "exposure time is negative");
       }
     }
-    const auto image = images.find(frame.id);
-    if (image == images.end()) {
-      throw fileError(times_path, line_number,
-                      fmt::format("image '{}' not found in {} (.png or .jpg)", frame.id,
-                                  images_dir.string()));
-    }
-    frame.image_path = image->second;
     frame.index_file = times_path;
     frame.index_line = line_number;
+    const auto image = images.find(frame.id);
+    if (image == images.end()) {
+      frame.image_path = (images_dir / frame.id).string() + ".png|.jpg";
+      layout.missing_images.push_back(std::move(frame));
+      continue;
+    }
+    frame.image_path = image->second;
     index.frames.push_back(std::move(frame));
   }
-  if (index.frames.empty()) throw fileError(times_path, "empty: no frames listed");
+  if (index.frames.empty() && layout.missing_images.empty()) {
+    throw fileError(times_path, "empty: no frames listed");
+  }
 
   for (const char* name : {"camchain.yaml", "camera.txt"}) {
     if (fs::is_regular_file(root / name)) index.calibration_paths.push_back((root / name).string());
@@ -92,7 +99,7 @@ DatasetIndex readTumIndex(const std::string& root_path) {
   addIfExists(root / "vignette.png", index.vignette_path);
   addIfExists(root / "groundtruth.txt", index.groundtruth_path);
   if (index.groundtruth_path) index.groundtruth_kind = GroundTruthKind::kCameraTum;
-  return index;
+  return layout;
 }
 
 }  // namespace omnidso::dataset_detail

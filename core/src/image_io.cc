@@ -13,7 +13,11 @@ namespace {
 // Reads a greyscale cv::Mat with the given imread flags; throws naming the file when it
 // is missing or cannot be decoded.
 cv::Mat readGrey(const std::string& path, int flags) {
-  if (!std::filesystem::is_regular_file(path)) throw fileError(path, "image file not found");
+  std::error_code status_error;  // a symbolic-link loop is bad input, not an exception escape
+  if (!std::filesystem::is_regular_file(path, status_error)) {
+    throw fileError(path, status_error ? "cannot read image: " + status_error.message()
+                                       : std::string("image file not found"));
+  }
   cv::Mat mat;
   try {
     mat = cv::imread(path, flags);

@@ -49,4 +49,15 @@ const ImageGradients& ImagePyramid::gradients(int index) const {
   return gradients_[index];
 }
 
+int pyramidLevelsForImage(int width, int height, int min_coarsest_pixels, int max_levels) {
+  int levels = 1;
+  long w = width, h = height;
+  while (levels < max_levels && w % 2 == 0 && h % 2 == 0 && w * h > min_coarsest_pixels) {
+    w /= 2;
+    h /= 2;
+    ++levels;
+  }
+  return levels;
+}
+
 }  // namespace omnidso

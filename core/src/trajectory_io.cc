@@ -1,5 +1,6 @@
 // Trajectory file readers and the TUM writer (formats in trajectory_io.hpp).
 #include <Eigen/SVD>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -158,6 +159,65 @@ std::string formatTimestamp(double t) {
   return buffer;
 }
 
+// Editors on Windows start UTF-8 files with it; it is not part of the first field.
+constexpr const char* kUtf8ByteOrderMark = "\xEF\xBB\xBF";
+
+struct NumberedPose {
+  StampedPose pose;
+  int line;  // in the file, for messages
+};
+
+// Lines out of time order: refused (strict) or stably sorted, so that of equal timestamps
+// the one earlier in the file stays first.
+void putInTimeOrder(const std::string& path, TimestampPolicy policy,
+                    std::vector<NumberedPose>& poses, TrajectoryFile& file) {
+  for (std::size_t i = 1; i < poses.size(); ++i) {
+    const double previous = poses[i - 1].pose.timestamp;
+    const double current = poses[i].pose.timestamp;
+    if (current >= previous) continue;
+    if (policy == TimestampPolicy::kStrict) {
+      throw fileError(path, poses[i].line,
+                      "timestamp " + formatTimestamp(current) + " is before the previous one " +
+                          formatTimestamp(previous) + " (line " +
+                          std::to_string(poses[i - 1].line) + ")");
+    }
+    file.was_sorted = true;
+    file.warnings.push_back(path + ": lines are not in time order (first at line " +
+                            std::to_string(poses[i].line) + "); sorted by timestamp");
+    std::stable_sort(poses.begin(), poses.end(), [](const NumberedPose& a, const NumberedPose& b) {
+      return a.pose.timestamp < b.pose.timestamp;
+    });
+    return;
+  }
+}
+
+// Equal timestamps after sorting: the first pose is kept, the others are dropped (evo's
+// association also matches the first of equal stamps); refused when strict.
+void dropRepeatedTimestamps(const std::string& path, TimestampPolicy policy,
+                            std::vector<NumberedPose>& poses, TrajectoryFile& file) {
+  std::vector<NumberedPose> kept;
+  kept.reserve(poses.size());
+  int first_dropped_line = 0;
+  for (NumberedPose& numbered : poses) {
+    if (!kept.empty() && numbered.pose.timestamp == kept.back().pose.timestamp) {
+      if (policy == TimestampPolicy::kStrict) {
+        throw fileError(path, numbered.line,
+                        "timestamp " + formatTimestamp(numbered.pose.timestamp) +
+                            " repeats the one of line " + std::to_string(kept.back().line));
+      }
+      if (file.repeated_timestamps_dropped++ == 0) first_dropped_line = numbered.line;
+      continue;
+    }
+    kept.push_back(std::move(numbered));
+  }
+  if (file.repeated_timestamps_dropped > 0) {
+    file.warnings.push_back(path + ": " + std::to_string(file.repeated_timestamps_dropped) +
+                            " pose(s) with a repeated timestamp dropped, the first of each kept "
+                            "(first at line " + std::to_string(first_dropped_line) + ")");
+  }
+  poses = std::move(kept);
+}
+
 }  // namespace
 
 TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
@@ -167,25 +227,33 @@ TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
   throw Error("unknown trajectory format '" + name + "' (expected tum, kitti or euroc)");
 }
 
-Trajectory readTrajectory(const std::string& path, TrajectoryFormat format) {
+TrajectoryFile readTrajectoryFile(const std::string& path, TrajectoryFormat format,
+                                  TimestampPolicy policy) {
   std::ifstream in(path);
   if (!in) throw fileError(path, "cannot open trajectory file");
-  Trajectory trajectory;
+  std::vector<NumberedPose> read;
   std::string line;
   LineReader reader{path, 0};
   while (std::getline(in, line)) {
     ++reader.line_number;
-    if (isSkippable(line)) continue;
-    StampedPose pose = parseLine(reader, splitFields(line), format, trajectory.size());
-    if (!trajectory.empty() && !(pose.timestamp > trajectory.back().timestamp)) {
-      reader.fail("timestamp " + formatTimestamp(pose.timestamp) +
-                  " is not after the previous one " +
-                  formatTimestamp(trajectory.back().timestamp));
+    if (reader.line_number == 1 && line.rfind(kUtf8ByteOrderMark, 0) == 0) {
+      line.erase(0, std::string(kUtf8ByteOrderMark).size());
     }
-    trajectory.push_back(std::move(pose));
+    if (isSkippable(line)) continue;
+    read.push_back({parseLine(reader, splitFields(line), format, read.size()), reader.line_number});
   }
-  if (trajectory.empty()) throw fileError(path, "no poses in trajectory file");
-  return trajectory;
+  if (in.bad()) throw fileError(path, "read error");
+  if (read.empty()) throw fileError(path, "no poses in trajectory file");
+  TrajectoryFile file;
+  putInTimeOrder(path, policy, read, file);
+  dropRepeatedTimestamps(path, policy, read, file);
+  file.poses.reserve(read.size());
+  for (NumberedPose& numbered : read) file.poses.push_back(std::move(numbered.pose));
+  return file;
+}
+
+Trajectory readTrajectory(const std::string& path, TrajectoryFormat format) {
+  return readTrajectoryFile(path, format, TimestampPolicy::kTolerant).poses;
 }
 
 void writeTrajectoryTum(const std::string& path, const Trajectory& trajectory) {

@@ -5,6 +5,7 @@
 #include <map>
 #include <mutex>
 #include <omnidso/frontend/mapping_worker.hpp>
+#include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/timing.hpp>
 #include <omnidso/frontend/odometry.hpp>
@@ -62,6 +63,14 @@ struct Odometry::Impl {
       for (size_t i = 0; i < mask.size(); ++i)
         if (!image_mask.data()[i]) mask.data()[i] = 0;
     }
+    if (options.pyramid_levels <= 0)
+      options.pyramid_levels = pyramidLevelsForImage(camera.width(), camera.height());
+    options.tracker.num_levels = std::min(options.tracker.num_levels, options.pyramid_levels);
+    // Keep every pyramid level clear of the content's edge (content_mask.hpp): a level-L
+    // sample and its central differences reach 2^L pixels of level 0, the pattern 2 more.
+    if (options.content_margin_px < 0)
+      options.content_margin_px = (1 << options.pyramid_levels) + 3;
+    mask = erodeContent(mask, options.content_margin_px);
     if (options.epipolar.max_search_px <= 0)
       options.epipolar.max_search_px = 0.027 * (camera.width() + camera.height());
     options.window.num_threads = std::max(1, options.window.num_threads);
@@ -180,14 +189,24 @@ struct Odometry::Impl {
         }
         Eigen::Vector2d u;
         const Eigen::Vector3d x = T_newest_world * (T_world_host * (p.bearing / d));
-        if (camera.project(x, u)) {
-          if (occupied[cellOf(u)]) {
+        const bool in_newest = camera.project(x, u);
+        if (in_newest && occupied[cellOf(u)]) {
+          keep.push_back(p);
+          continue;
+        }
+        double activation_d = d;
+        if (options.activation.enabled) {
+          const NewPointRefinement r =
+              window->refineNewPoint(host_id, p.pixel, d, options.activation);
+          if (r.verdict == NewPointVerdict::kUnobserved) {
             keep.push_back(p);
             continue;
           }
-          occupied[cellOf(u)] = 1;
+          if (r.verdict == NewPointVerdict::kInconsistent) continue;  // a wrong match: drop
+          activation_d = r.inverse_distance;
         }
-        if (window->addPoint(host_id, p.pixel, d) < 0) continue;  // no valid residual: drop
+        if (in_newest) occupied[cellOf(u)] = 1;
+        if (window->addPoint(host_id, p.pixel, activation_d) < 0) continue;  // no valid residual
       }
       list.swap(keep);
     }

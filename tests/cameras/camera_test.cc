@@ -93,7 +93,19 @@ TEST(CameraTest, RejectsBadParametersWithReasons) {
             std::string::npos);
   EXPECT_NE(errorOf([] {
               Camera::create("pinhole", vec({1, 1, 1, 1}), 0, 480);
-            }).find("image size must be positive"),
+            }).find("image size must be in [1, 100000]"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] {
+              Camera::create("pinhole", vec({1, 1, 1, 1}), 640, 100001);
+            }).find("image size must be in [1, 100000]"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] {
+              Camera::create("pinhole", vec({2e6, 1, 1, 1}), 640, 480);
+            }).find("focal length"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] {
+              Camera::create("pinhole", vec({1, 1, 1, -3e6}), 640, 480);
+            }).find("principal point"),
             std::string::npos);
 }
 

@@ -121,7 +121,38 @@ TEST(DatasetTest, RejectsTimestampWithoutImage) {
   writeTumDataset(tmp.path());
   fs::remove(tmp.path() / "images" / "002.png");
   const std::string error = openError(tmp.path());
-  EXPECT_NE(error.find("times.txt:5: image '002' not found"), std::string::npos) << error;
+  EXPECT_NE(error.find("times.txt:5: image '"), std::string::npos) << error;
+  EXPECT_NE(error.find("002.png|.jpg' not found"), std::string::npos) << error;
+}
+
+// The end of a copy interrupted: every missing image is named, at the first one's line;
+// skipping drops them with a warning, and a missing image in the middle is dropped too.
+TEST(DatasetTest, MissingImagesAreNamedOrSkipped) {
+  TempDir tmp("missing_at_end");
+  writeTumDataset(tmp.path());
+  writeText(tmp.path() / "times.txt",
+            "000 1.0\n001 1.05\n002 1.1\n003 1.15\n004 1.2\n# end\n");
+  const std::string error = openError(tmp.path());
+  EXPECT_NE(error.find("times.txt:4: 2 listed images not found at the end of the list"),
+            std::string::npos) << error;
+  EXPECT_NE(error.find("003.png|.jpg (line 4), "), std::string::npos) << error;
+  EXPECT_NE(error.find("004.png|.jpg (line 5)"), std::string::npos) << error;
+
+  DatasetOpenOptions skip;
+  skip.skip_missing_images = true;
+  DatasetIndex index = openDataset(tmp.path().string(), skip);
+  ASSERT_EQ(index.frames.size(), 3u);
+  EXPECT_EQ(index.frames[2].id, "002");
+  EXPECT_EQ(index.frames[0].exposure_ms, 0.0);  // no exposure column: unknown
+  ASSERT_EQ(index.warnings.size(), 1u);
+  EXPECT_NE(index.warnings[0].find("2 frame(s) dropped"), std::string::npos) << index.warnings[0];
+
+  fs::remove(tmp.path() / "images" / "001.jpg");
+  index = openDataset(tmp.path().string(), skip);
+  ASSERT_EQ(index.frames.size(), 2u);
+  EXPECT_EQ(index.frames[1].id, "002");
+  EXPECT_NE(openError(tmp.path()).find("times.txt:2: 3 listed images not found: "),
+            std::string::npos) << openError(tmp.path());
 }
 
 TEST(DatasetTest, RejectsTimestampsNotIncreasing) {

@@ -55,6 +55,21 @@ TEST(ImagePyramid, TooSmallOrNoLevelsThrows) {
   EXPECT_THROW(ImagePyramid(ImageF(), 1), Error);
 }
 
+// A level is added while the current coarsest image has more than 5000 pixels (DSO's rule):
+// 480×480 stops at 60×60 (3600 px, 4 levels), 640×480 at 80×60 (4800 px), 752×480 at 47×30
+// (94×60 = 5640 px still halves; 47 is odd), 1280×1024 at 40×32 (6 levels, the cap); odd
+// sizes stop halving, and max_levels caps.
+TEST(PyramidLevelsForImage, CoarsestLevelKeepsEnoughPixels) {
+  EXPECT_EQ(pyramidLevelsForImage(480, 480), 4);
+  EXPECT_EQ(pyramidLevelsForImage(640, 480), 4);
+  EXPECT_EQ(pyramidLevelsForImage(752, 480), 5);
+  EXPECT_EQ(pyramidLevelsForImage(1280, 1024), 6);
+  EXPECT_EQ(pyramidLevelsForImage(1280, 1024, 5000, 3), 3);
+  EXPECT_EQ(pyramidLevelsForImage(481, 480), 1);
+  EXPECT_EQ(pyramidLevelsForImage(960, 960), 5);
+  EXPECT_EQ(pyramidLevelsForImage(60, 60), 1);
+}
+
 TEST(ImagePyramid, LevelOutOfRangeThrows) {
   const ImagePyramid pyramid(ImageF(16, 16), 2);
   EXPECT_THROW(pyramid.level(2), Error);

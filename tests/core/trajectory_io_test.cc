@@ -26,10 +26,11 @@ std::string writeTempFile(const std::string& suffix, const std::string& content)
 
 // Expects reading to throw an Error whose message starts with "PATH:LINE:".
 void expectErrorAtLine(const std::string& content, TrajectoryFormat format, int line,
-                       const std::string& what) {
+                       const std::string& what,
+                       TimestampPolicy policy = TimestampPolicy::kTolerant) {
   const std::string path = writeTempFile(".txt", content);
   try {
-    readTrajectory(path, format);
+    readTrajectoryFile(path, format, policy);
     ADD_FAILURE() << "no error for: " << what;
   } catch (const Error& e) {
     const std::string message = e.what();
@@ -133,12 +134,69 @@ TEST(TrajectoryIo, MalformedFilesNameFileAndLine) {
   expectErrorAtLine(ok + "2 0 nan 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "nan");
   expectErrorAtLine(ok + "2 0 0 inf 0 0 0 1\n", TrajectoryFormat::kTum, 3, "inf");
   expectErrorAtLine(ok + "2 0 0 0 0 0 0 1.01\n", TrajectoryFormat::kTum, 3, "non-unit q");
-  expectErrorAtLine(ok + "1 0 0 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "repeated stamp");
-  expectErrorAtLine(ok + "0.5 0 0 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "stamp backwards");
+  expectErrorAtLine(ok + "2 0 0 0 0 0 0 0\n", TrajectoryFormat::kTum, 3, "zero quaternion");
+  expectErrorAtLine(ok + "2 0 0 0 0 0 0 1\n2 0 0\n", TrajectoryFormat::kTum, 4, "truncated line");
+  expectErrorAtLine(ok + "1 0 0 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "repeated stamp",
+                    TimestampPolicy::kStrict);
+  expectErrorAtLine(ok + "0.5 0 0 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "stamp backwards",
+                    TimestampPolicy::kStrict);
   expectErrorAtLine("1 0 0 0 0 1 0 0 0 0 1\n", TrajectoryFormat::kKitti, 1, "kitti 11 columns");
   expectErrorAtLine("1 0 0 0 0 1 0 0 0 0 2 0\n", TrajectoryFormat::kKitti, 1, "kitti not a rotation");
   expectErrorAtLine("1 0 0 0 0 0 0\n", TrajectoryFormat::kEuroc, 1, "euroc 7 columns");
   expectErrorAtLine("1,0,0,0,1,0,0,0,abc\n", TrajectoryFormat::kEuroc, 1, "euroc extra non-numeric");
+}
+
+// TUM RGB-D's fr2/desk ground truth repeats a timestamp (line 10863) with another pose:
+// the first is kept, as evo's nearest-stamp association would match it, and the drop is
+// reported; strict mode refuses the file.
+TEST(TrajectoryIo, RepeatedTimestampKeepsTheFirstPoseAndWarns) {
+  const std::string path = writeTempFile(".txt",
+                                         "# ground truth trajectory\n"
+                                         "1311868229.5660 1 0 0 0 0 0 1\n"
+                                         "1311868229.5760 2 0 0 0 0 0 1\n"
+                                         "1311868229.5760 9 0 0 0 0 0 1\n"
+                                         "1311868229.5760 8 0 0 0 0 0 1\n"
+                                         "1311868229.5860 3 0 0 0 0 0 1\n");
+  const TrajectoryFile file = readTrajectoryFile(path, TrajectoryFormat::kTum);
+  ASSERT_EQ(file.poses.size(), 3u);
+  EXPECT_EQ(file.poses[1].pose.translation().x(), 2.0);
+  EXPECT_EQ(file.poses[2].pose.translation().x(), 3.0);
+  EXPECT_EQ(file.repeated_timestamps_dropped, 2u);
+  EXPECT_FALSE(file.was_sorted);
+  ASSERT_EQ(file.warnings.size(), 1u);
+  EXPECT_NE(file.warnings[0].find("2 pose(s)"), std::string::npos) << file.warnings[0];
+  EXPECT_NE(file.warnings[0].find("line 4"), std::string::npos) << file.warnings[0];
+  EXPECT_EQ(readTrajectory(path, TrajectoryFormat::kTum).size(), 3u);
+}
+
+TEST(TrajectoryIo, UnsortedLinesAreSortedWithAWarning) {
+  const std::string path = writeTempFile(".csv",
+                                         "\xEF\xBB\xBF#timestamp [ns], x, y, z, qw, qx, qy, qz\r\n"
+                                         "3000000000,3,0,0,1,0,0,0\r\n"
+                                         "1000000000,1,0,0,1,0,0,0\r\n"
+                                         "\r\n"
+                                         "2000000000,2,0,0,1,0,0,0\r\n"
+                                         "1000000000,7,0,0,1,0,0,0\r\n");
+  const TrajectoryFile file = readTrajectoryFile(path, TrajectoryFormat::kEuroc);
+  ASSERT_EQ(file.poses.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(file.poses[i].timestamp, static_cast<double>(i + 1));
+    // Of the two poses at 1 s, the one earlier in the file (x = 1) is kept.
+    EXPECT_EQ(file.poses[i].pose.translation().x(), static_cast<double>(i + 1));
+  }
+  EXPECT_TRUE(file.was_sorted);
+  EXPECT_EQ(file.repeated_timestamps_dropped, 1u);
+  EXPECT_EQ(file.warnings.size(), 2u);
+}
+
+TEST(TrajectoryIo, ScientificNotationAndPlusSignsAreNumbers) {
+  const std::string path = writeTempFile(".txt",
+                                         "1.311868229566E+09 +1e-3 -2.5e0 0 0 0 0 1.0E0\n"
+                                         "1.311868229576e9 1E-3 0 0 0 0 0 1\n");
+  const Trajectory trajectory = readTrajectoryTum(path);
+  ASSERT_EQ(trajectory.size(), 2u);
+  EXPECT_EQ(trajectory[0].timestamp, 1311868229.566);
+  EXPECT_EQ(trajectory[0].pose.translation(), Eigen::Vector3d(1e-3, -2.5, 0));
 }
 
 TEST(TrajectoryIo, EmptyAndMissingFilesNameTheFile) {

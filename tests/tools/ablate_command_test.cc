@@ -12,46 +12,12 @@
 #include <omnidso/core/error.hpp>
 #include <omnidso/synth/dataset_writer.hpp>
 
+#include "ablate_test_util.hpp"
 #include "synth_test_util.hpp"
 
 namespace omnidso {
 namespace {
 namespace fs = std::filesystem;
-
-// Writes summary.json like `omnidso run`: RMSE 0.01 × (seed + 1); pinhole-crop:90 with
-// N_f 3 exits with status 3; native N_f 3 with seed 1 loses tracking (two segments).
-constexpr const char* kFakeRun = R"(#!/bin/sh
-dataset="$2"; shift 2
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --out) out="$2"; shift ;;
-    --camera-model) model="$2"; shift ;;
-    --keyframes) kf="$2"; shift ;;
-    --seed) seed="$2"; shift ;;
-  esac
-  shift
-done
-echo "$model $kf $seed" >> "$(dirname "$0")/calls.txt"
-cp "$dataset/groundtruth.txt" "$out/keyframes.txt"
-if [ "$model" = "pinhole-crop:90" ] && [ "$kf" = 3 ]; then echo "omnidso: error: fake failure" >&2; exit 3; fi
-segments=1
-if [ "$model" = native ] && [ "$kf" = 3 ] && [ "$seed" = 1 ]; then segments=2; fi
-cat > "$out/summary.json" <<EOF
-{"initialized": true, "counts": {"segments": $segments}, "events": [],
- "timing": {"tracking_ms_per_frame": {"mean": 10}, "mapping_ms_per_keyframe": {"mean": 100}},
- "ate": {"keyframe_ate": {"rmse_m": 0.0$((seed + 1)), "rmse_percent_of_path": 1.5}}}
-EOF
-)";
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-size_t lineCount(const std::string& path) {
-  const std::string text = readFile(path);
-  return static_cast<size_t>(std::count(text.begin(), text.end(), '\n'));
-}
 
 void runAblate(const std::string& arguments) {
   CLI::App app;
@@ -66,7 +32,7 @@ class AblateCommandTest : public ::testing::Test {
     synth::SyntheticSequence sequence(test::smallSequenceConfig(6));
     synth::writeSyntheticDataset(sequence, tmp_.str() + "/seq");
     fake_ = tmp_.str() + "/fake_run.sh";
-    std::ofstream(fake_) << kFakeRun;
+    std::ofstream(fake_) << test::kFakeRun;
     ::chmod(fake_.c_str(), 0755);
   }
   std::string arguments(const std::string& out, int runs = 2) const {
@@ -82,39 +48,39 @@ class AblateCommandTest : public ::testing::Test {
 TEST_F(AblateCommandTest, WritesEveryTableAndPlotAndMarksFailedRuns) {
   const std::string out = tmp_.str() + "/ablation";
   runAblate(arguments(out));
-  EXPECT_EQ(lineCount(tmp_.str() + "/calls.txt"), 8u);  // 4 cells × 2 runs
+  EXPECT_EQ(test::lineCount(tmp_.str() + "/calls.txt"), 8u);  // 4 cells × 2 runs
   for (const char* file :
        {"tables.md", "table1_rmse.csv", "table2_length.csv", "table3_rmse_per_keyframes.csv",
         "table4_rmse_differences.csv", "table5_timing.csv", "runs.csv", "ablation.json",
         "plots/seq_trajectories.png", "plots/seq_ate.png"})
     EXPECT_TRUE(fs::is_regular_file(out + "/" + file)) << file;
-  EXPECT_EQ(lineCount(out + "/runs.csv"), 1u + 8u);
+  EXPECT_EQ(test::lineCount(out + "/runs.csv"), 1u + 8u);
   EXPECT_TRUE(fs::is_regular_file(out + "/runs/seq__pinhole-crop-90__kf3/run2/log.txt"));
 
-  const std::string md = readFile(out + "/tables.md");
+  const std::string md = test::readFile(out + "/tables.md");
   EXPECT_NE(md.find("| seq     | native          |  0.0150 | 0.0100 (failed 1/2) |"),
             std::string::npos)
       << md;
   EXPECT_NE(md.find("failed 2/2"), std::string::npos) << md;
   EXPECT_NE(md.find("exit status 3: omnidso: error: fake failure"), std::string::npos) << md;
   EXPECT_NE(md.find("lost tracking (2 trajectory segments)"), std::string::npos) << md;
-  const std::string runs = readFile(out + "/runs.csv");
+  const std::string runs = test::readFile(out + "/runs.csv");
   EXPECT_NE(runs.find("seq,native,3,2,1,failed,lost tracking"), std::string::npos) << runs;
 }
 
 TEST_F(AblateCommandTest, ASecondInvocationRunsNothingAgain) {
   const std::string out = tmp_.str() + "/ablation";
   runAblate(arguments(out));
-  const std::string tables = readFile(out + "/tables.md");
+  const std::string tables = test::readFile(out + "/tables.md");
   runAblate(arguments(out));
-  EXPECT_EQ(lineCount(tmp_.str() + "/calls.txt"), 8u);
-  EXPECT_EQ(readFile(out + "/tables.md"), tables);
+  EXPECT_EQ(test::lineCount(tmp_.str() + "/calls.txt"), 8u);
+  EXPECT_EQ(test::readFile(out + "/tables.md"), tables);
   // A third run per cell is new work: only those 4 runs.
   runAblate(arguments(out, 3));
-  EXPECT_EQ(lineCount(tmp_.str() + "/calls.txt"), 12u);
+  EXPECT_EQ(test::lineCount(tmp_.str() + "/calls.txt"), 12u);
   // Other settings than the finished runs': refused, nothing run.
   EXPECT_THROW(runAblate(arguments(out) + " --points 500"), Error);
-  EXPECT_EQ(lineCount(tmp_.str() + "/calls.txt"), 12u);
+  EXPECT_EQ(test::lineCount(tmp_.str() + "/calls.txt"), 12u);
 }
 
 TEST_F(AblateCommandTest, RefusesADirectoryThatIsNotAnAblation) {
@@ -122,7 +88,7 @@ TEST_F(AblateCommandTest, RefusesADirectoryThatIsNotAnAblation) {
   fs::create_directories(out);
   std::ofstream(out + "/notes.txt") << "keep\n";
   EXPECT_THROW(runAblate(arguments(out)), Error);
-  EXPECT_EQ(readFile(out + "/notes.txt"), "keep\n");
+  EXPECT_EQ(test::readFile(out + "/notes.txt"), "keep\n");
   EXPECT_FALSE(fs::exists(tmp_.str() + "/calls.txt"));
 }
 

@@ -15,6 +15,7 @@ RunResult ok(int run, double rmse, double tracking_ms = 10) {
   r.ok = true;
   r.rmse_m = rmse;
   r.rmse_percent_of_path = 100 * rmse;
+  r.scale_drift_percent = -1000 * rmse;  // -10, -30, -20 % for the cell below
   r.tracking_ms = tracking_ms;
   r.mapping_ms = 10 * tracking_ms;
   return r;
@@ -85,9 +86,11 @@ TEST(AblationTablesTest, TablesHaveARowPerDatasetAndMarkFailures) {
   const AblationTable& t1 = tables[0];
   EXPECT_EQ(t1.csv_name, "table1_rmse.csv");
   ASSERT_EQ(t1.markdown.rows.size(), 2u);
-  EXPECT_EQ(t1.markdown.header.size(), 1u + 2u * 2u);  // dataset + (RMSE, %) per model
+  EXPECT_EQ(t1.markdown.header.size(), 1u + 2u * 3u);  // dataset + (RMSE, %, drift) per model
   EXPECT_EQ(t1.markdown.rows[0][1], "0.0200");         // median of 0.01, 0.03, 0.02 at N_f 7
+  EXPECT_EQ(t1.markdown.rows[0][3], "-20.00");         // median scale drift of the same runs
   EXPECT_EQ(t1.csv.rows[0][1], "0.02");
+  EXPECT_EQ(t1.csv.rows[0][5], "-20");
 
   const AblationTable& t2 = tables[1];
   EXPECT_EQ(t2.markdown.rows[1], (std::vector<std::string>{"seqB", "80", "4.0", "2.25"}));

@@ -1,8 +1,10 @@
 // `omnidso ablate`: the paper's ablation (Matsuki et al. 2018, Tables I–V) as a grid of
 // `omnidso run` processes — datasets × camera models × N_f, `--runs` seeds each, `--jobs` at
-// a time — then medians, tables and plots. The grid is ablation_plan.cc, the processes
-// process_pool.cc, a run's success ablation_run_result.cc, the tables ablation_tables.cc and
-// ablation_report.cc, the plots ablation_plots.cc.
+// a time — then medians, tables and plots. The grid is ablation_plan.cc, who performs the runs
+// the executors (ablation_executor.hpp: this machine, a Slurm job array, GNU parallel), a
+// run's success ablation_run_result.cc, the tables ablation_tables.cc and ablation_report.cc,
+// the plots ablation_plots.cc. `--collect` builds the tables from the result.json files in
+// --out alone, with the grid recorded in its ablation.json (ablation_manifest.cc).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <unistd.h>
@@ -11,6 +13,8 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <omnidso/cli/ablation_executor.hpp>
+#include <omnidso/cli/ablation_manifest.hpp>
 #include <omnidso/cli/ablation_plan.hpp>
 #include <omnidso/cli/ablation_plots.hpp>
 #include <omnidso/cli/ablation_report.hpp>
@@ -18,8 +22,9 @@
 #include <omnidso/cli/ablation_tables.hpp>
 #include <omnidso/cli/commands.hpp>
 #include <omnidso/cli/odometry_settings.hpp>
-#include <omnidso/cli/process_pool.hpp>
-#include <omnidso/cli/progress.hpp>
+#include <omnidso/cli/parallel_executor.hpp>
+#include <omnidso/cli/shell_words.hpp>
+#include <omnidso/cli/slurm_executor.hpp>
 #include <omnidso/core/dataset.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/metrics.hpp>
@@ -42,6 +47,13 @@ struct AblateArguments {
   RunPassThrough pass_through;
   std::string executable;
   bool quiet = false;
+  std::string executor = "local";
+  bool collect = false;
+  bool no_wait = false;
+  bool dry_run = false;
+  bool jobs_given = false;  // Slurm's %M only when --jobs was asked for
+  SlurmOptions slurm;
+  std::string parallel_arguments;
 };
 
 // A dataset's ground truth over the frames the runs use, and Table II's facts.
@@ -79,79 +91,24 @@ std::string executablePath(const std::string& requested) {
   return path;
 }
 
-std::string preamble(const AblationSpec& spec, const AblateArguments& args) {
+template <typename T>
+std::string joined(const std::vector<T>& items) {
+  std::string text;
+  for (const T& item : items) text += fmt::format("{}{}", text.empty() ? "" : ",", item);
+  return text;
+}
+
+std::string preamble(const AblationManifest& m) {
+  const AblationSpec& spec = m.spec;
   const RunPassThrough& p = spec.pass_through;
   return fmt::format(
       "Camera models `{}`, N_f `{}` (reference N_f = {}), {} runs per cell with seeds {}…{}. "
       "Every run: `--points {}`, `--threads {}`, `--residuals {}`, {}, {}; timeout {}.",
-      args.camera_models, args.keyframes, spec.keyframes.front(), spec.runs, spec.base_seed,
-      spec.base_seed + spec.runs - 1, p.points, p.threads, p.residuals,
+      joined(spec.camera_models), joined(spec.keyframes), spec.keyframes.front(), spec.runs,
+      spec.base_seed, spec.base_seed + spec.runs - 1, p.points, p.threads, p.residuals,
       p.max_frames > 0 ? fmt::format("the first {} frames", p.max_frames) : "all frames",
       p.no_intrinsics_opt ? "intrinsics fixed" : "intrinsics optimised",
-      args.timeout_s > 0 ? fmt::format("{:g} s", args.timeout_s) : "none");
-}
-
-void writeManifest(const std::string& out, const AblationPlan& plan, const AblationSpec& spec,
-                   const AblateArguments& args) {
-  nlohmann::json cells = nlohmann::json::array();
-  for (const AblationCell& c : plan.cells)
-    cells.push_back({{"id", c.id()},
-                     {"dataset", c.dataset_name},
-                     {"dataset_path", c.dataset_path},
-                     {"camera_model", c.camera_model},
-                     {"keyframes", c.keyframes}});
-  const nlohmann::json manifest = {
-      {"omnidso_ablation", 1},
-      {"runs_per_cell", spec.runs},
-      {"base_seed", spec.base_seed},
-      {"timeout_s", args.timeout_s},
-      {"jobs", args.jobs},
-      {"cells", cells},
-      {"note", "written by omnidso ablate; runs with a result.json are not run again"}};
-  std::ofstream(fs::path(out) / kAblationMarker) << manifest.dump(2) << "\n";
-}
-
-std::string resultLine(const PlannedRun& run, const AblationCell& cell, const RunResult& r) {
-  const std::string what =
-      fmt::format("{} {} run {} (seed {})", cell.dataset_name, cell.method(), run.run, run.seed);
-  if (!r.ok) return fmt::format("{}: FAILED, {} ({:.1f} s)", what, r.failure, r.wall_s);
-  return fmt::format("{}: ok, RMSE {:.4f} m ({:.1f} s)", what, r.rmse_m.value_or(0.0), r.wall_s);
-}
-
-// Runs the unfinished runs, printing a line per finished run (and a bar on a terminal).
-void runPending(const AblationPlan& plan, const std::vector<size_t>& pending,
-                std::vector<std::optional<RunResult>>& results, const std::string& executable,
-                const AblateArguments& args) {
-  std::vector<ProcessSpec> specs;
-  for (size_t i : pending) {
-    const PlannedRun& run = plan.runs[i];
-    fs::create_directories(run.directory);
-    ProcessSpec spec{{executable}, (fs::path(run.directory) / "log.txt").string(), args.timeout_s};
-    spec.argv.insert(spec.argv.end(), run.arguments.begin(), run.arguments.end());
-    specs.push_back(std::move(spec));
-  }
-  const bool bar = !args.quiet && ::isatty(STDERR_FILENO);
-  size_t done = 0, failed = 0, running = 0;
-  auto drawBar = [&] {
-    if (bar)
-      printProgressBar(done, specs.size(), fmt::format("running {}, failed {}", running, failed));
-  };
-  ProcessCallbacks callbacks;
-  callbacks.started = [&](size_t) { ++running, drawBar(); };
-  callbacks.finished = [&](size_t k, const ProcessOutcome& outcome) {
-    const PlannedRun& run = plan.runs[pending[k]];
-    const RunResult r = classifyRun(run, outcome);
-    writeRunResult(run.directory, r);
-    results[pending[k]] = r;
-    --running, ++done, failed += !r.ok;
-    if (!args.quiet) {
-      if (bar) std::fprintf(stderr, "\r\033[K");
-      std::fprintf(stderr, "[%zu/%zu] %s\n", done, specs.size(),
-                   resultLine(run, plan.cells[run.cell], r).c_str());
-    }
-    drawBar();
-  };
-  runProcesses(specs, args.jobs, callbacks);
+      m.timeout_s > 0 ? fmt::format("{:g} s", m.timeout_s) : "none");
 }
 
 DatasetPlots plotInput(const DatasetTruth& truth, const std::vector<CellSummary>& cells,
@@ -160,18 +117,21 @@ DatasetPlots plotInput(const DatasetTruth& truth, const std::vector<CellSummary>
   for (size_t c = 0; c < cells.size(); ++c) {
     const CellSummary& cell = cells[c];
     if (cell.cell.dataset_name != truth.facts.name) continue;
-    const size_t failed = cell.runs.size() - cell.succeeded;
-    const std::string failures =
-        failed ? fmt::format("failed {}/{}", failed, cell.runs.size()) : "";
+    const size_t failed = cell.runs.size() - cell.succeeded - cell.missing;
+    std::string failures = failed ? fmt::format("failed {}/{}", failed, cell.runs.size()) : "";
+    if (cell.missing)
+      failures +=
+          fmt::format("{}missing {}/{}", failed ? ", " : "", cell.missing, cell.runs.size());
     if (!cell.median_run) {
       plots.methods.push_back({cell.cell.method() + ": " + failures, std::nullopt});
       continue;
     }
     const RunResult& r = cell.runs[*cell.median_run];
     const PlannedRun& run = plan.runs[c * runs + (r.run - 1)];
-    PlottedMethod method{fmt::format("{} (run {}, RMSE {:.4f} m{})", cell.cell.method(), r.run,
-                                     r.rmse_m.value_or(0.0), failed ? "; " + failures : ""),
-                         std::nullopt};
+    PlottedMethod method{
+        fmt::format("{} (run {}, RMSE {:.4f} m{})", cell.cell.method(), r.run,
+                    r.rmse_m.value_or(0.0), failures.empty() ? "" : "; " + failures),
+        std::nullopt};
     try {
       method.keyframes = readTrajectoryTum((fs::path(run.directory) / "keyframes.txt").string());
     } catch (const Error& e) {
@@ -182,63 +142,116 @@ DatasetPlots plotInput(const DatasetTruth& truth, const std::vector<CellSummary>
   return plots;
 }
 
-void runAblate(const AblateArguments& args) {
-  AblationSpec spec;
+// The grid asked for on the command line; bad settings are refused here, not by every run.
+AblationManifest requestedGrid(const AblateArguments& args) {
+  if (args.datasets.empty()) throw Error("--datasets is required (unless --collect)");
+  AblationManifest m;
+  AblationSpec& spec = m.spec;
   spec.datasets = splitList(args.datasets, "--datasets");
   spec.camera_models = splitList(args.camera_models, "--camera-models");
   spec.keyframes = parseIntegerList(args.keyframes, "--keyframes");
   spec.runs = args.runs;
   spec.base_seed = args.seed;
   spec.pass_through = args.pass_through;
-  {  // bad settings are refused here, not by every run; the runs get an absolute path
-    OdometryOptions check;
-    if (!spec.pass_through.config.empty()) {
-      applyOdometryConfigFile(check, spec.pass_through.config);
-      spec.pass_through.config = std::filesystem::absolute(spec.pass_through.config).string();
-    }
-    for (const std::string& setting : spec.pass_through.settings)
-      applyOdometrySettingAssignment(check, setting);
+  OdometryOptions check;
+  if (!spec.pass_through.config.empty()) {
+    applyOdometryConfigFile(check, spec.pass_through.config);
+    spec.pass_through.config = fs::absolute(spec.pass_through.config).string();  // for every run
   }
-  const AblationPlan plan = planAblation(spec, args.out);
+  for (const std::string& setting : spec.pass_through.settings)
+    applyOdometrySettingAssignment(check, setting);
+  m.timeout_s = args.timeout_s;
+  m.jobs = args.jobs;
+  return m;
+}
+
+std::unique_ptr<AblationExecutor> makeExecutor(const AblateArguments& args,
+                                               const AblationSpec& spec) {
+  if (args.executor == "slurm") {
+    SlurmOptions o = args.slurm;
+    o.wait = !args.no_wait;
+    o.dry_run = args.dry_run;
+    o.limit_running = args.jobs_given;
+    if (o.resources.cpus == 0) o.resources.cpus = spec.pass_through.threads;
+    return makeSlurmExecutor(o);
+  }
+  if (args.no_wait) throw Error("--no-wait: only with --executor slurm");
+  if (args.executor == "parallel") {
+    ParallelOptions o;
+    o.arguments = splitShellWords(args.parallel_arguments, "--parallel-args");
+    o.dry_run = args.dry_run;
+    return makeParallelExecutor(o);
+  }
+  if (args.dry_run) throw Error("--dry-run: only with --executor slurm or parallel");
+  return makeLocalExecutor();
+}
+
+// Performs the runs without a result.json; false when they were handed over and not waited for.
+bool performPendingRuns(const AblateArguments& args, const AblationManifest& manifest,
+                        const AblationPlan& plan, const std::string& out) {
+  std::unique_ptr<AblationExecutor> executor = makeExecutor(args, manifest.spec);
+  ExecutionRequest request{
+      &plan, {}, executablePath(args.executable), out, args.timeout_s, args.jobs, args.quiet};
+  prepareAblationDirectory(out);
+  for (size_t i = 0; i < plan.runs.size(); ++i)
+    if (!readFinishedRun(plan.runs[i])) request.pending.push_back(i);  // throws: other settings
+  writeAblationManifest(out, plan, manifest);
+  std::cerr << fmt::format(
+      "{} cells × {} runs = {} runs: {} finished earlier in {} (not run again), {} to run, "
+      "executor {}\n",
+      plan.cells.size(), manifest.spec.runs, plan.runs.size(),
+      plan.runs.size() - request.pending.size(), out, request.pending.size(), args.executor);
+  return executor->execute(request);
+}
+
+void runAblate(const AblateArguments& args) {
+  const std::string out = fs::absolute(args.out).lexically_normal().string();
+  if (args.collect && !args.datasets.empty())
+    throw Error("--collect takes the grid from " + out + "/" + kAblationMarker +
+                "; leave out --datasets");
+  const AblationManifest manifest = args.collect ? readAblationManifest(out) : requestedGrid(args);
+  const AblationSpec& spec = manifest.spec;
+  const AblationPlan plan = planAblation(spec, out);
   std::vector<DatasetTruth> truths;  // cells are dataset-major: one per dataset
   for (size_t c = 0; c < plan.cells.size(); c += spec.camera_models.size() * spec.keyframes.size())
     truths.push_back(readDatasetTruth(plan.cells[c], spec.pass_through.max_frames));
-  const std::string executable = executablePath(args.executable);
-  prepareAblationDirectory(args.out);
-  std::vector<std::optional<RunResult>> results(plan.runs.size());
-  std::vector<size_t> pending;
-  for (size_t i = 0; i < plan.runs.size(); ++i) {
-    results[i] = readFinishedRun(plan.runs[i]);  // throws when made with other settings
-    if (!results[i]) pending.push_back(i);
+  if (args.collect) {
+    recordSlurmFailures(out, plan, args.slurm);  // of jobs submitted with --no-wait
+  } else if (!performPendingRuns(args, manifest, plan, out)) {
+    return;
   }
-  writeManifest(args.out, plan, spec, args);
-  std::cerr << fmt::format(
-      "{} cells × {} runs = {} runs: {} finished earlier in {} (not run "
-      "again), {} to run, {} at a time\n",
-      plan.cells.size(), spec.runs, plan.runs.size(), plan.runs.size() - pending.size(), args.out,
-      pending.size(), args.jobs);
-  runPending(plan, pending, results, executable, args);
 
   std::vector<CellSummary> cells;
-  size_t failed = 0;
+  size_t failed = 0, missing = 0;
   for (size_t c = 0; c < plan.cells.size(); ++c) {
     std::vector<RunResult> runs;
-    for (int k = 0; k < spec.runs; ++k) runs.push_back(*results[c * spec.runs + k]);
+    for (int k = 0; k < spec.runs; ++k)
+      runs.push_back(currentRunState(plan.runs[c * spec.runs + k]));
     cells.push_back(summarizeCell(plan.cells[c], std::move(runs)));
-    failed += cells.back().runs.size() - cells.back().succeeded;
+    missing += cells.back().missing;
+    failed += cells.back().runs.size() - cells.back().succeeded - cells.back().missing;
   }
   std::vector<DatasetFacts> facts;
   for (const DatasetTruth& t : truths) facts.push_back(t.facts);
-  writeAblationReport(args.out, preamble(spec, args), ablationTables(facts, cells), cells);
+  writeAblationReport(out, preamble(manifest), ablationTables(facts, cells), cells);
   std::vector<std::string> plot_paths;
   for (const DatasetTruth& t : truths)
-    for (const std::string& p : writeDatasetPlots((fs::path(args.out) / "plots").string(),
+    for (const std::string& p : writeDatasetPlots((fs::path(out) / "plots").string(),
                                                   plotInput(t, cells, plan, spec.runs)))
       plot_paths.push_back(p);
 
-  std::cout << fmt::format("{} of {} runs failed\n", failed, plan.runs.size())
-            << "tables: " << (fs::path(args.out) / "tables.md").string() << " (and CSV files)\n";
+  std::cout << fmt::format("{} of {} runs failed", failed, plan.runs.size())
+            << (missing ? fmt::format(", {} missing (not finished)", missing) : "") << "\n"
+            << "tables: " << (fs::path(out) / "tables.md").string() << " (and CSV files)\n";
   for (const std::string& p : plot_paths) std::cout << "plot:   " << p << "\n";
+  size_t listed = 0;  // the missing runs, so that a collect says what is still to come
+  for (const CellSummary& c : cells)
+    for (const RunResult& r : c.runs)
+      if (r.missing && listed++ < 20)
+        std::cout << fmt::format("missing: {} {} run {} (seed {}): runs/{}/run{}\n",
+                                 c.cell.dataset_name, c.cell.method(), r.run, r.seed, c.cell.id(),
+                                 r.run);
+  if (listed > 20) std::cout << fmt::format("… and {} more missing runs (runs.csv)\n", listed - 20);
 }
 
 }  // namespace
@@ -249,7 +262,8 @@ void registerAblateCommand(CLI::App& app) {
       "ablate",
       "the paper's ablation: every dataset × camera model × N_f, several seeds, as "
       "separate `omnidso run` processes; medians, Tables I–V and plots (resumable)");
-  cmd->add_option("--datasets", args->datasets, "comma-separated dataset directories")->required();
+  cmd->add_option("--datasets", args->datasets,
+                  "comma-separated dataset directories (required unless --collect)");
   cmd->add_option("--camera-models", args->camera_models,
                   "comma-separated: native, pinhole-crop:FOV_DEG")
       ->capture_default_str();
@@ -259,9 +273,10 @@ void registerAblateCommand(CLI::App& app) {
   cmd->add_option("--runs", args->runs, "runs (seeds) per cell; tables show the median")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  cmd->add_option("--jobs", args->jobs, "runs in parallel")
-      ->check(CLI::Range(1, 256))
-      ->capture_default_str();
+  CLI::Option* jobs = cmd->add_option("--jobs", args->jobs,
+                                      "runs at a time (slurm: the array's %M, only when given)")
+                          ->check(CLI::Range(1, 1000))
+                          ->capture_default_str();
   cmd->add_option("--timeout", args->timeout_s,
                   "seconds before a run is killed and failed (0: none)")
       ->check(CLI::NonNegativeNumber)
@@ -287,11 +302,43 @@ void registerAblateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--config", p.config, "odometry settings file passed to every run")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--set", p.settings, "odometry setting NAME=VALUE passed to every run (repeatable)");
+  cmd->add_option("--set", p.settings,
+                  "odometry setting NAME=VALUE passed to every run (repeatable)");
   cmd->add_option("--omnidso", args->executable,
                   "the omnidso executable that performs the runs (default: this one)");
   cmd->add_flag("--quiet", args->quiet, "no progress output");
-  cmd->callback([args] { runAblate(*args); });
+  cmd->add_option("--executor", args->executor,
+                  "who performs the runs: local (this machine, --jobs at a time), slurm (one "
+                  "job array), parallel (GNU parallel)")
+      ->check(CLI::IsMember({"local", "slurm", "parallel"}))
+      ->capture_default_str();
+  cmd->add_flag("--collect", args->collect,
+                "run nothing: build the tables from the runs in --out that have finished "
+                "(the grid is read from its ablation.json); missing runs are marked");
+  cmd->add_flag("--dry-run", args->dry_run,
+                "slurm, parallel: only write the job script / job list into --out");
+  cmd->add_flag("--no-wait", args->no_wait,
+                "slurm: return once the job array is submitted (then --collect)");
+  SlurmResources& r = args->slurm.resources;
+  r.cpus = 0;  // 0: --threads
+  cmd->add_option("--slurm-partition", r.partition, "slurm: sbatch --partition");
+  cmd->add_option("--slurm-time", r.time, "slurm: sbatch --time per run, e.g. 1:00:00");
+  cmd->add_option("--slurm-cpus", r.cpus, "slurm: sbatch --cpus-per-task (default: --threads)")
+      ->check(CLI::Range(1, 1024));
+  cmd->add_option("--slurm-mem", r.mem, "slurm: sbatch --mem per run, e.g. 4G");
+  cmd->add_option("--slurm-arg", r.extra,
+                  "slurm: a further sbatch option for the script, e.g. --account=vision "
+                  "(repeatable)");
+  cmd->add_option("--poll-interval", args->slurm.poll_interval_s,
+                  "slurm: seconds between squeue polls while waiting")
+      ->check(CLI::Range(0.1, 3600.0))
+      ->capture_default_str();
+  cmd->add_option("--parallel-args", args->parallel_arguments,
+                  "parallel: options passed to GNU parallel, e.g. \"--sshloginfile hosts\"");
+  cmd->callback([args, jobs] {
+    args->jobs_given = jobs->count() > 0;
+    runAblate(*args);
+  });
 }
 
 }  // namespace omnidso::cli

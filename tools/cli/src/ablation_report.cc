@@ -25,6 +25,8 @@ void writeFile(const fs::path& path, const std::string& text) {
 
 }  // namespace
 
+std::string runStatus(const RunResult& r) { return r.ok ? "ok" : r.missing ? "missing" : "failed"; }
+
 TextTable runsTable(const std::vector<CellSummary>& cells, bool failed_only) {
   TextTable t;
   t.header = {"dataset",
@@ -42,11 +44,11 @@ TextTable runsTable(const std::vector<CellSummary>& cells, bool failed_only) {
               "log"};
   for (const CellSummary& c : cells)
     for (const RunResult& r : c.runs) {
-      if (failed_only && r.ok) continue;
+      if (failed_only && runStatus(r) != "failed") continue;
       t.rows.push_back({c.cell.dataset_name, c.cell.camera_model, std::to_string(c.cell.keyframes),
-                        std::to_string(r.run), std::to_string(r.seed), r.ok ? "ok" : "failed",
-                        r.failure, plain(r.rmse_m), plain(r.rmse_percent_of_path),
-                        plain(r.tracking_ms), plain(r.mapping_ms), fmt::format("{:.1f}", r.wall_s),
+                        std::to_string(r.run), std::to_string(r.seed), runStatus(r), r.failure,
+                        plain(r.rmse_m), plain(r.rmse_percent_of_path), plain(r.tracking_ms),
+                        plain(r.mapping_ms), fmt::format("{:.1f}", r.wall_s),
                         fmt::format("runs/{}/run{}/log.txt", c.cell.id(), r.run)});
     }
   return t;
@@ -60,7 +62,10 @@ std::string failureRuleText(int runs_per_cell) {
       "keyframe ATE), or when it loses tracking (a \"tracking lost\" event or more than one "
       "trajectory segment). `(failed k/n)` after a value: k of the n runs failed and the "
       "median is over the other n − k. `failed n/n`: no run succeeded, there is no value. "
-      "Failed runs are listed with their reasons at the end and in `runs.csv`.",
+      "Failed runs are listed with their reasons at the end and in `runs.csv`; a run the "
+      "cluster ended (time limit, preemption, node failure, out of memory, cancelled) is "
+      "failed with the cluster's reason, and run again by a resubmission. `(missing m/n)`: "
+      "m runs have not finished (tables collected with `--collect` before the end).",
       runs_per_cell);
 }
 
@@ -91,6 +96,17 @@ void writeAblationReport(const std::string& out_dir, const std::string& preamble
       brief.rows.push_back({row[0], row[1], row[2], row[3], row[4], row[6], row[12]});
     md << markdownTable(brief);
   }
+  TextTable missing;  // the runs.csv rows of runs without a result (collected early)
+  missing.header = {"dataset", "camera model", "N_f", "run", "seed", "directory"};
+  missing.label_columns = missing.header.size();
+  for (const auto& row : runsTable(cells, false).rows)
+    if (row[5] == "missing")
+      missing.rows.push_back({row[0], row[1], row[2], row[3], row[4],
+                              fs::path(row[12]).parent_path().string()});
+  if (!missing.rows.empty())
+    md << "\n## Missing runs\n\n"
+       << missing.rows.size() << " runs have not finished (`missing` in `runs.csv`):\n\n"
+       << markdownTable(missing);
   writeFile(out / "runs.csv", csvTable(runsTable(cells, false)));
   writeFile(out / "tables.md", md.str());
 }

@@ -33,8 +33,21 @@ void readMetrics(const nlohmann::json& s, RunResult& r) {
   using P = nlohmann::json::json_pointer;
   r.rmse_m = numberAt(s, P("/ate/keyframe_ate/rmse_m"));
   r.rmse_percent_of_path = numberAt(s, P("/ate/keyframe_ate/rmse_percent_of_path"));
+  r.scale_drift_percent =
+      numberAt(s, P("/ate/keyframe_ate/scale_drift/percent_over_sequence"));
   r.tracking_ms = numberAt(s, P("/timing/tracking_ms_per_frame/mean"));
   r.mapping_ms = numberAt(s, P("/timing/mapping_ms_per_keyframe/mean"));
+}
+
+// A temporary file renamed, so that a reader never sees half of it.
+void writeJsonAtomically(const fs::path& path, const nlohmann::json& j) {
+  const fs::path temporary = path.string() + ".tmp";
+  {
+    std::ofstream out(temporary);
+    out << j.dump(2) << "\n";
+    if (!out) throw Error(temporary.string() + ": cannot write");
+  }
+  fs::rename(temporary, path);
 }
 
 }  // namespace
@@ -98,6 +111,7 @@ nlohmann::json toJson(const RunResult& r) {
           {"wall_s", r.wall_s},
           {"rmse_m", optionalJson(r.rmse_m)},
           {"rmse_percent_of_path", optionalJson(r.rmse_percent_of_path)},
+          {"scale_drift_percent", optionalJson(r.scale_drift_percent)},
           {"tracking_ms_per_frame", optionalJson(r.tracking_ms)},
           {"mapping_ms_per_keyframe", optionalJson(r.mapping_ms)},
           {"settings", r.settings}};
@@ -113,6 +127,7 @@ RunResult runResultFromJson(const nlohmann::json& j) {
   r.wall_s = j.value("wall_s", 0.0);
   r.rmse_m = numberAt(j, P("/rmse_m"));
   r.rmse_percent_of_path = numberAt(j, P("/rmse_percent_of_path"));
+  r.scale_drift_percent = numberAt(j, P("/scale_drift_percent"));
   r.tracking_ms = numberAt(j, P("/tracking_ms_per_frame"));
   r.mapping_ms = numberAt(j, P("/mapping_ms_per_keyframe"));
   r.settings = j.at("settings");
@@ -120,14 +135,7 @@ RunResult runResultFromJson(const nlohmann::json& j) {
 }
 
 void writeRunResult(const std::string& run_directory, const RunResult& result) {
-  const fs::path final_path = fs::path(run_directory) / "result.json";
-  const fs::path temporary = fs::path(run_directory) / "result.json.tmp";
-  {
-    std::ofstream out(temporary);
-    out << toJson(result).dump(2) << "\n";
-    if (!out) throw Error(temporary.string() + ": cannot write");
-  }
-  fs::rename(temporary, final_path);
+  writeJsonAtomically(fs::path(run_directory) / "result.json", toJson(result));
 }
 
 std::optional<RunResult> readFinishedRun(const PlannedRun& run) {
@@ -153,6 +161,36 @@ std::optional<RunResult> readFinishedRun(const PlannedRun& run) {
                                        "); use another --out, or that ablation's settings");
   }
   return r;
+}
+
+RunResult currentRunState(const PlannedRun& run) {
+  if (std::optional<RunResult> finished = readFinishedRun(run)) return *finished;
+  RunResult r;
+  r.run = run.run;
+  r.seed = run.seed;
+  r.settings = run.settings;
+  const fs::path path = fs::path(run.directory) / kClusterFailureFile;
+  if (!fs::exists(path)) {
+    r.missing = true;
+    r.failure = "not finished";
+    return r;
+  }
+  try {
+    std::ifstream in(path);
+    r.failure = nlohmann::json::parse(in).at("failure").get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    throw fileError(path.string(), std::string("unreadable (") + e.what() +
+                                       "); remove the file, the run is not finished either way");
+  }
+  return r;
+}
+
+void writeClusterFailure(const PlannedRun& run, const std::string& reason) {
+  if (fs::exists(fs::path(run.directory) / "result.json")) return;
+  fs::create_directories(run.directory);
+  writeJsonAtomically(fs::path(run.directory) / kClusterFailureFile,
+                      {{"failure", reason},
+                       {"note", "the cluster ended this run; it is run again when resubmitted"}});
 }
 
 }  // namespace omnidso::cli

@@ -12,6 +12,7 @@ struct Measured {
   std::optional<double> value;
   size_t used = 0;
   size_t total = 0;
+  size_t missing = 0;  // not finished (yet): neither used nor failed
 };
 
 using CellField = std::optional<double> CellSummary::*;
@@ -20,12 +21,20 @@ std::string number(double v, int precision, bool sign = false) {
   return sign ? fmt::format("{:+.{}f}", v, precision) : fmt::format("{:.{}f}", v, precision);
 }
 
+// "failed k/n", "missing m/n", or both, for the runs a value leaves out.
+std::string leftOut(const Measured& m, const std::string& prefix = "") {
+  std::vector<std::string> parts;
+  if (const size_t failed = m.total - m.used - m.missing)
+    parts.push_back(fmt::format("{}failed {}/{}", prefix, failed, m.total));
+  if (m.missing) parts.push_back(fmt::format("{}missing {}/{}", prefix, m.missing, m.total));
+  return parts.empty() ? "" : parts.size() == 1 ? parts[0] : parts[0] + ", " + parts[1];
+}
+
 std::string display(const Measured& m, int precision) {
   if (m.total == 0) return "—";
-  const size_t failed = m.total - m.used;
-  if (!m.value) return m.used == 0 ? fmt::format("failed {}/{}", failed, m.total) : "n/a";
+  if (!m.value) return m.used == 0 ? leftOut(m) : "n/a";
   const std::string v = number(*m.value, precision);
-  return failed ? fmt::format("{} (failed {}/{})", v, failed, m.total) : v;
+  return m.used < m.total ? fmt::format("{} ({})", v, leftOut(m)) : v;
 }
 
 std::string plain(const std::optional<double>& v) { return v ? fmt::format("{:.9g}", *v) : ""; }
@@ -62,7 +71,7 @@ const CellSummary* findCell(const std::vector<CellSummary>& cells, const std::st
 
 Measured measured(const CellSummary* c, CellField field) {
   if (!c) return {};
-  return {c->*field, c->succeeded, c->runs.size()};
+  return {c->*field, c->succeeded, c->runs.size(), c->missing};
 }
 
 std::string kf(int n) { return "Kf" + std::to_string(n); }
@@ -78,7 +87,8 @@ AblationTable tableRmse(const Axes& axes, const std::vector<CellSummary>& cells)
   AblationTable t{"table1_rmse.csv",
                   "Table I: keyframe ATE RMSE per sequence and method",
                   fmt::format("Keyframe ATE RMSE after Sim(3) alignment, in metres and in % of "
-                              "the ground-truth path, at N_f = {}.",
+                              "the ground-truth path, and the scale drift (change of the local "
+                              "scale over the run, %; `omnidso eval` explains it), at N_f = {}.",
                               reference),
                   {},
                   {}};
@@ -86,9 +96,11 @@ AblationTable tableRmse(const Axes& axes, const std::vector<CellSummary>& cells)
   t.csv.header = {"dataset"};
   for (const std::string& model : axes.camera_models) {
     t.markdown.header.insert(t.markdown.header.end(),
-                             {model + " RMSE [m]", model + " [% of path]"});
-    t.csv.header.insert(t.csv.header.end(), {model + " rmse_m", model + " runs_used",
-                                             model + " runs", model + " rmse_percent_of_path"});
+                             {model + " RMSE [m]", model + " [% of path]",
+                              model + " scale drift [%]"});
+    t.csv.header.insert(t.csv.header.end(),
+                        {model + " rmse_m", model + " runs_used", model + " runs",
+                         model + " rmse_percent_of_path", model + " scale_drift_percent"});
   }
   for (const std::string& dataset : axes.datasets) {
     std::vector<std::string> md{dataset}, csv{dataset};
@@ -96,10 +108,13 @@ AblationTable tableRmse(const Axes& axes, const std::vector<CellSummary>& cells)
       const CellSummary* c = findCell(cells, dataset, model, reference);
       const Measured rmse = measured(c, &CellSummary::rmse_m);
       const Measured percent = measured(c, &CellSummary::rmse_percent_of_path);
+      const Measured drift = measured(c, &CellSummary::scale_drift_percent);
       md.push_back(display(rmse, 4));
       md.push_back(percent.value ? number(*percent.value, 2) : display(percent, 2));
+      md.push_back(drift.value ? number(*drift.value, 2) : display(drift, 2));
       for (const std::string& f : csvFields(rmse)) csv.push_back(f);
       csv.push_back(plain(percent.value));
+      csv.push_back(plain(drift.value));
     }
     t.markdown.rows.push_back(md);
     t.csv.rows.push_back(csv);
@@ -161,10 +176,8 @@ std::string differenceText(int n, int reference, const Measured& a, const Measur
   }
   std::string text = number(*a.value - *b.value, 4, true);
   std::vector<std::string> partial;
-  if (a.used < a.total)
-    partial.push_back(fmt::format("{} failed {}/{}", kf(n), a.total - a.used, a.total));
-  if (b.used < b.total)
-    partial.push_back(fmt::format("{} failed {}/{}", kf(reference), b.total - b.used, b.total));
+  if (a.used < a.total) partial.push_back(leftOut(a, kf(n) + " "));
+  if (b.used < b.total) partial.push_back(leftOut(b, kf(reference) + " "));
   if (!partial.empty()) text += " (" + joined(partial) + ")";
   return text;
 }
@@ -215,11 +228,12 @@ AblationTable tableTiming(const Axes& axes, const std::vector<CellSummary>& cell
   for (const std::string& model : axes.camera_models)
     for (int n : axes.keyframes) {
       std::vector<double> tracking, mapping;
-      size_t used = 0, total = 0;
+      size_t used = 0, total = 0, missing = 0;
       for (const std::string& dataset : axes.datasets) {
         const CellSummary* c = findCell(cells, dataset, model, n);
         if (!c) continue;
         total += c->runs.size();
+        missing += c->missing;
         for (const RunResult& r : c->runs) {
           if (!r.ok) continue;
           ++used;
@@ -227,7 +241,8 @@ AblationTable tableTiming(const Axes& axes, const std::vector<CellSummary>& cell
           if (r.mapping_ms) mapping.push_back(*r.mapping_ms);
         }
       }
-      const Measured track{medianOf(tracking), used, total}, map{medianOf(mapping), used, total};
+      const Measured track{medianOf(tracking), used, total, missing},
+          map{medianOf(mapping), used, total, missing};
       t.markdown.rows.push_back({model, std::to_string(n), display(track, 1),
                                  map.value ? number(*map.value, 1) : display(map, 1)});
       t.csv.rows.push_back({model, std::to_string(n), plain(track.value), plain(map.value),
@@ -247,10 +262,11 @@ CellSummary summarizeCell(const AblationCell& cell, std::vector<RunResult> runs)
   CellSummary s;
   s.cell = cell;
   s.runs = std::move(runs);
-  std::vector<double> rmse, percent, tracking, mapping;
+  std::vector<double> rmse, percent, drift, tracking, mapping;
   std::vector<std::pair<double, size_t>> by_rmse;
   for (size_t i = 0; i < s.runs.size(); ++i) {
     const RunResult& r = s.runs[i];
+    s.missing += r.missing;
     if (!r.ok) continue;
     ++s.succeeded;
     if (r.rmse_m) {
@@ -258,11 +274,13 @@ CellSummary summarizeCell(const AblationCell& cell, std::vector<RunResult> runs)
       by_rmse.push_back({*r.rmse_m, i});
     }
     if (r.rmse_percent_of_path) percent.push_back(*r.rmse_percent_of_path);
+    if (r.scale_drift_percent) drift.push_back(*r.scale_drift_percent);
     if (r.tracking_ms) tracking.push_back(*r.tracking_ms);
     if (r.mapping_ms) mapping.push_back(*r.mapping_ms);
   }
   s.rmse_m = medianOf(rmse);
   s.rmse_percent_of_path = medianOf(percent);
+  s.scale_drift_percent = medianOf(drift);
   s.tracking_ms = medianOf(tracking);
   s.mapping_ms = medianOf(mapping);
   if (!by_rmse.empty()) {

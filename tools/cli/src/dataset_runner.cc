@@ -1,7 +1,10 @@
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <omnidso/cameras/rectification.hpp>
 #include <thread>
 #include <omnidso/cli/dataset_runner.hpp>
+#include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/image_io.hpp>
 #include <omnidso/core/photometric_calibration.hpp>
@@ -10,8 +13,32 @@
 
 namespace omnidso::cli {
 
+std::optional<double> parseNativeFov(const std::string& text) {
+  const std::string prefix = "native-fov:";
+  if (text.rfind(prefix, 0) != 0) return std::nullopt;
+  try {
+    size_t used = 0;
+    const double fov = std::stod(text.substr(prefix.size()), &used);
+    if (used == text.size() - prefix.size() && fov > 1.0 && fov <= 360.0) return fov;
+  } catch (const std::exception&) {
+  }
+  throw Error("--camera-model: expected 'native-fov:FOV_DEG' with 1 < FOV <= 360, got '" + text + "'");
+}
+
+Mask viewAngleMask(const Camera& camera, double fov_deg) {
+  Mask mask(camera.width(), camera.height());
+  const double max_angle = 0.5 * fov_deg * M_PI / 180.0;
+  for (int v = 0; v < camera.height(); ++v)
+    for (int u = 0; u < camera.width(); ++u) {
+      Eigen::Vector3d bearing;
+      mask(u, v) = camera.unproject(Eigen::Vector2d(u, v), bearing) &&
+                   std::acos(std::clamp(bearing.z(), -1.0, 1.0)) <= max_angle;
+    }
+  return mask;
+}
+
 std::optional<double> parsePinholeCrop(const std::string& text) {
-  if (text == "native") return std::nullopt;
+  if (text == "native" || parseNativeFov(text)) return std::nullopt;
   const std::string prefix = "pinhole-crop:";
   if (text.rfind(prefix, 0) == 0) {
     try {
@@ -21,7 +48,8 @@ std::optional<double> parsePinholeCrop(const std::string& text) {
     } catch (const std::exception&) {
     }
   }
-  throw Error("--camera-model: expected 'native' or 'pinhole-crop:FOV_DEG' with 1 < FOV < 179, got '" +
+  throw Error("--camera-model: expected 'native', 'native-fov:FOV_DEG' or 'pinhole-crop:FOV_DEG' "
+              "with 1 < FOV < 179, got '" +
               text + "'");
 }
 
@@ -36,6 +64,33 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
   if (crop_fov || source.hasDistortion()) {
     rectification = makeRectificationMap(source, camera);
     image_mask = validMask(*rectification);
+  }
+  if (options.detect_content && !index.frames.empty()) {
+    // The black surround of a fisheye's image circle (content_mask.hpp), from the brightest
+    // value of each pixel over the first frames, mapped through the rectification if any.
+    std::vector<RawImage> first;
+    for (size_t i = 0; i < std::min<size_t>(5, index.frames.size()); ++i)
+      first.push_back(readRawImage(index.frames[i].image_path));
+    std::vector<const ImageU16*> pixels;
+    for (const RawImage& r : first)
+      if (r.pixels.width() == source.width() && r.pixels.height() == source.height())
+        pixels.push_back(&r.pixels);
+    if (!pixels.empty()) {
+      const int full_scale = (1 << first.front().bit_depth) - 1;
+      Mask content = detectContentMask(pixels, static_cast<int>(0.02 * full_scale));
+      if (rectification) content = remap(content, *rectification);  // 0 where any source pixel is 0 nearby
+      if (image_mask.empty()) {
+        image_mask = std::move(content);
+      } else {
+        for (size_t i = 0; i < image_mask.size(); ++i) image_mask.data()[i] &= content.data()[i];
+      }
+    }
+  }
+  if (const std::optional<double> fov = parseNativeFov(options.camera_model)) {
+    Mask within = viewAngleMask(camera, *fov);
+    if (!image_mask.empty())
+      for (size_t i = 0; i < within.size(); ++i) within.data()[i] &= image_mask.data()[i];
+    image_mask = std::move(within);
   }
   const PhotometricCalibration photometric = PhotometricCalibration::fromFiles(
       index.pcalib_path.value_or(""), index.vignette_path.value_or(""));
@@ -53,7 +108,12 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
       const double due_s = (frame.timestamp_s - index.frames[0].timestamp_s) / options.playback_speed;
       std::this_thread::sleep_until(start + std::chrono::duration<double>(due_s));
     }
-    const RawImage raw = readRawImage(frame.image_path);
+    RawImage raw;
+    try {
+      raw = readRawImage(frame.image_path);
+    } catch (const Error& e) {  // point at the index line that lists the image too
+      throw fileError(frame.index_file, frame.index_line, e.what());
+    }
     if (raw.pixels.width() != source.width() || raw.pixels.height() != source.height())
       throw Error(frame.image_path + ": image is " + std::to_string(raw.pixels.width()) + "x" +
                   std::to_string(raw.pixels.height()) + ", expected " +

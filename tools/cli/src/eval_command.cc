@@ -10,6 +10,9 @@
 #include <omnidso/cli/commands.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/metrics.hpp>
+#include <omnidso/core/scale_drift.hpp>
+#include <omnidso/cli/scale_drift_json.hpp>
+#include <omnidso/cli/eval_plot.hpp>
 #include <omnidso/core/trajectory_io.hpp>
 #include <string>
 
@@ -27,6 +30,9 @@ struct EvalArguments {
   std::string delta_unit = "f";
   bool pairs_from_reference = false;
   bool json = false;
+  double drift_window_m = 0.0;  // 0: defaultScaleDriftWindow
+  std::string plot;             // PNG: ATE and local scale over time
+  bool strict = false;  // refuse repeated or out-of-order timestamps instead of repairing
 };
 
 nlohmann::ordered_json statisticsJson(const ErrorStatistics& s) {
@@ -38,8 +44,9 @@ nlohmann::ordered_json optionalStatisticsJson(const std::optional<ErrorStatistic
   return s ? statisticsJson(*s) : nlohmann::ordered_json(nullptr);
 }
 
-nlohmann::ordered_json resultJson(const EvalArguments& args, const EvaluationResult& r, size_t gt_poses,
-                          size_t est_poses) {
+nlohmann::ordered_json resultJson(const EvalArguments& args, const EvaluationResult& r,
+                                  const std::optional<ScaleDrift>& drift, size_t gt_poses,
+                                  size_t est_poses) {
   const Eigen::Matrix3d rotation = r.alignment.rotationMatrix();
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (int i = 0; i < 3; ++i) rows.push_back({rotation(i, 0), rotation(i, 1), rotation(i, 2)});
@@ -58,7 +65,9 @@ nlohmann::ordered_json resultJson(const EvalArguments& args, const EvaluationRes
           {"matched_poses", r.association.size()},
           {"gt_poses", gt_poses},
           {"est_poses", est_poses},
-          {"gt_length_m", r.gt_length_m}};
+          {"gt_length_m", r.gt_length_m},
+          {"scale_drift", drift ? nlohmann::ordered_json(scaleDriftJson(*drift, true))
+                                : nlohmann::ordered_json(nullptr)}};
 }
 
 std::string statisticsRow(const std::string& label, const std::optional<ErrorStatistics>& s) {
@@ -67,8 +76,8 @@ std::string statisticsRow(const std::string& label, const std::optional<ErrorSta
                      s->rmse, s->mean, s->median, s->std, s->min, s->max);
 }
 
-void printTable(const EvalArguments& args, const EvaluationResult& r, size_t gt_poses,
-                size_t est_poses) {
+void printTable(const EvalArguments& args, const EvaluationResult& r,
+                const std::optional<ScaleDrift>& drift, size_t gt_poses, size_t est_poses) {
   std::cout << fmt::format("matched poses  {} (ground truth {}, estimate {})\n",
                            r.association.size(), gt_poses, est_poses)
             << fmt::format("alignment      {} (scale {:.6f})\n", args.align, r.alignment.scale())
@@ -78,14 +87,33 @@ void printTable(const EvalArguments& args, const EvaluationResult& r, size_t gt_
                            "median", "std", "min", "max")
             << statisticsRow("ATE (m)", r.ate) << statisticsRow("RPE (m)", r.rpe_translation_m)
             << statisticsRow("RPE (deg)", r.rpe_rotation_deg);
+  if (!drift) {
+    std::cout << "\nscale drift    n/a (too short for three windows)\n";
+    return;
+  }
+  std::cout << fmt::format("\nscale drift    window {:.3f} m, {} samples: {:+.3f} % over the "
+                           "sequence, {:+.3f} % per 10 m, {:+.3f} % per minute; local scale "
+                           "{:.4f} … {:.4f}\n",
+                           drift->window_m, drift->samples.size(), drift->percent_over_sequence,
+                           drift->percent_per_10m, drift->percent_per_minute, drift->min_ratio,
+                           drift->max_ratio);
+}
+
+// The reader's repairs (repeated timestamps dropped, lines sorted) go to stderr, so that
+// stdout stays the table or JSON a script parses.
+Trajectory readReportingWarnings(const std::string& path, TrajectoryFormat format, bool strict) {
+  TrajectoryFile file = readTrajectoryFile(
+      path, format, strict ? TimestampPolicy::kStrict : TimestampPolicy::kTolerant);
+  for (const std::string& warning : file.warnings) std::cerr << "warning: " << warning << "\n";
+  return std::move(file.poses);
 }
 
 void runEval(const EvalArguments& args) {
   const TrajectoryFormat est_format = parseTrajectoryFormat(args.format);
   const TrajectoryFormat gt_format =
       parseTrajectoryFormat(args.gt_format.empty() ? args.format : args.gt_format);
-  const Trajectory gt = readTrajectory(args.gt_path, gt_format);
-  const Trajectory est = readTrajectory(args.est_path, est_format);
+  const Trajectory gt = readReportingWarnings(args.gt_path, gt_format, args.strict);
+  const Trajectory est = readReportingWarnings(args.est_path, est_format, args.strict);
 
   EvaluationOptions options;
   options.alignment = parseAlignmentType(args.align);
@@ -107,10 +135,14 @@ void runEval(const EvalArguments& args) {
         "[{:.6f}, {:.6f}] s)", args.gt_path, gt.size(), gt.front().timestamp,
         gt.back().timestamp, est.size(), est.front().timestamp, est.back().timestamp));
   }
+  const double window =
+      args.drift_window_m > 0 ? args.drift_window_m : defaultScaleDriftWindow(result.gt_length_m);
+  const std::optional<ScaleDrift> drift = computeScaleDrift(gt, est, result, window);
+  if (!args.plot.empty()) writeEvaluationPlot(args.plot, gt, result, drift);
   if (args.json) {
-    std::cout << resultJson(args, result, gt.size(), est.size()).dump(2) << "\n";
+    std::cout << resultJson(args, result, drift, gt.size(), est.size()).dump(2) << "\n";
   } else {
-    printTable(args, result, gt.size(), est.size());
+    printTable(args, result, drift, gt.size(), est.size());
   }
 }
 
@@ -142,7 +174,16 @@ void registerEvalCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--pairs-from-reference", args->pairs_from_reference,
                 "RPE in metres: choose pairs along the ground truth, not the estimate");
+  cmd->add_option("--drift-window", args->drift_window_m,
+                  "scale drift: ground-truth path length over which the local scale is "
+                  "measured (m; default a tenth of the path, at least 0.5 m)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--plot", args->plot,
+                  "write a PNG: ATE over time beside the local scale over time (refused if it exists)");
   cmd->add_flag("--json", args->json, "print a JSON object instead of a table");
+  cmd->add_flag("--strict", args->strict,
+                "refuse repeated or out-of-order timestamps (default: keep the first of "
+                "repeated ones and sort, with a warning)");
   cmd->callback([args] { runEval(*args); });
 }
 

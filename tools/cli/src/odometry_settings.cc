@@ -22,8 +22,13 @@ struct Setting {
 std::vector<Setting> settingsOf(OdometryOptions& o) {
   return {
       {"pyramid_levels", &o.pyramid_levels},
+      {"content_margin_px", &o.content_margin_px},
       {"max_activation_interval_px", &o.max_activation_interval_px},
       {"min_activation_quality", &o.min_activation_quality},
+      {"activation.enabled", &o.activation.enabled},
+      {"activation.iterations", &o.activation.iterations},
+      {"activation.min_hessian", &o.activation.min_hessian},
+      {"activation.min_good_residuals", &o.activation.min_good_residuals},
       {"max_keyframe_interval_frames", &o.max_keyframe_interval_frames},
       {"window.intrinsics_prior_weight", &o.window.intrinsics_prior_weight},
       {"window.max_iterations", &o.window.max_iterations},
@@ -108,23 +113,57 @@ void assign(const Setting& s, const std::string& value) {
   if (!ok) throw Error(std::string("setting ") + s.name + ": cannot parse '" + value + "'");
 }
 
+// No setting of the table is meaningfully negative (counts, weights, tolerances, sizes in
+// pixels) except the two whose "automatic" value is below the range: pyramid_levels 0 (the
+// depth from the image size) and content_margin_px −1 (from the pyramid depth). A negative
+// count would size a vector or a loop wrongly instead of being refused.
+double lowestValue(const std::string& name) {
+  if (name == "content_margin_px") return -1.0;
+  return 0.0;
+}
+
+void checkRange(const Setting& s) {
+  const double lowest = lowestValue(s.name);
+  const bool ok = std::visit(
+      [&](auto* target) {
+        using T = std::remove_pointer_t<decltype(target)>;
+        if constexpr (std::is_same_v<T, bool> || std::is_unsigned_v<T>) {
+          return true;
+        } else {
+          return static_cast<double>(*target) >= lowest;
+        }
+      },
+      s.target);
+  if (!ok) {
+    throw Error(std::string("setting ") + s.name +
+                (lowest < 0 ? ": must be at least -1 (-1: automatic)"
+                            : ": must not be negative" +
+                                  std::string(std::string(s.name) == "pyramid_levels"
+                                                  ? " (0: automatic)"
+                                                  : "")));
+  }
+}
+
 void applyYamlNode(OdometryOptions& options, const YAML::Node& node, const std::string& prefix,
                    const std::string& path) {
   if (!node.IsMap()) throw Error(path + ": expected a map of settings" +
                                  (prefix.empty() ? "" : " under '" + prefix + "'"));
   for (const auto& entry : node) {
-    const std::string name = prefix + entry.first.as<std::string>();
+    const int line = entry.first.Mark().line + 1;
+    if (!entry.first.IsScalar()) {
+      throw fileError(path, line, "a setting's name must be a plain word, not a list or map");
+    }
+    const std::string name = prefix + entry.first.Scalar();
     if (entry.second.IsMap()) {
       applyYamlNode(options, entry.second, name + ".", path);
     } else if (entry.second.IsScalar()) {
       try {
         applyOdometrySetting(options, name, entry.second.Scalar());
       } catch (const Error& e) {
-        throw Error(path + ":" + std::to_string(entry.first.Mark().line + 1) + ": " + e.what());
+        throw fileError(path, line, e.what());
       }
     } else {
-      throw Error(path + ":" + std::to_string(entry.first.Mark().line + 1) + ": setting " +
-                  name + " must be a single value");
+      throw fileError(path, line, "setting " + name + " must be a single value");
     }
   }
 }
@@ -133,10 +172,14 @@ void applyYamlNode(OdometryOptions& options, const YAML::Node& node, const std::
 
 void applyOdometrySetting(OdometryOptions& options, const std::string& name, const std::string& value) {
   for (const Setting& s : settingsOf(options))
-    if (name == s.name) return assign(s, value);
+    if (name == s.name) {
+      assign(s, value);
+      return checkRange(s);
+    }
+  // One line (an error is one message), the valid names in table order.
   std::string known;
-  for (const std::string& n : odometrySettingNames()) known += "\n  " + n;
-  throw Error("unknown setting '" + name + "'; the settings are:" + known);
+  for (const std::string& n : odometrySettingNames()) known += (known.empty() ? "" : ", ") + n;
+  throw Error("unknown setting '" + name + "'; the settings are: " + known);
 }
 
 void applyOdometrySettingAssignment(OdometryOptions& options, const std::string& assignment) {
@@ -151,7 +194,8 @@ void applyOdometryConfigFile(OdometryOptions& options, const std::string& path) 
   try {
     root = YAML::LoadFile(path);
   } catch (const YAML::Exception& e) {
-    throw Error(path + ": " + e.what());
+    if (e.mark.is_null()) throw fileError(path, e.msg);
+    throw fileError(path, e.mark.line + 1, "malformed YAML: " + e.msg);
   }
   if (root.IsNull()) return;  // an empty file changes nothing
   applyYamlNode(options, root, "", path);

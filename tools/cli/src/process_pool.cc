@@ -41,11 +41,22 @@ pid_t spawn(const ProcessSpec& spec, std::string& error) {
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, spec.log_path.c_str(),
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  // A caller that blocks SIGTERM (omnidso ablate-task) must not pass that on to the run.
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  sigset_t none, terminating;
+  sigemptyset(&none);
+  sigemptyset(&terminating);
+  for (int s : {SIGTERM, SIGINT, SIGHUP}) sigaddset(&terminating, s);
+  posix_spawnattr_setsigmask(&attributes, &none);
+  posix_spawnattr_setsigdefault(&attributes, &terminating);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
   std::vector<char*> argv;
   for (const std::string& a : spec.argv) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   pid_t pid = -1;
-  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  const int rc = posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), environ);
+  posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) {
     error =
@@ -103,6 +114,17 @@ std::vector<ProcessOutcome> runProcesses(const std::vector<ProcessSpec>& specs, 
     if (callbacks.finished) callbacks.finished(index, outcomes[index]);
   };
   while (next < specs.size() || !running.empty()) {
+    if (callbacks.interrupted && callbacks.interrupted()) {
+      for (const RunningProcess& p : running) {
+        int status = 0;
+        ::kill(p.pid, SIGKILL);
+        waitFor(p.pid, status, true);
+        ProcessOutcome outcome = outcomeOf(status);
+        outcome.wall_s = secondsSince(p.start);
+        finish(p.index, outcome);
+      }
+      break;
+    }
     while (next < specs.size() && static_cast<int>(running.size()) < jobs) {
       const std::size_t index = next++;
       std::string error;

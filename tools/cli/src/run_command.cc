@@ -14,9 +14,11 @@
 #include <omnidso/cli/odometry_settings.hpp>
 #include <omnidso/cli/progress.hpp>
 #include <omnidso/cli/run_outputs.hpp>
+#include <omnidso/cli/staged_directory.hpp>
 #include <omnidso/core/dataset.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/frontend/odometry.hpp>
+#include <omnidso/synth/dataset_loading.hpp>
 
 namespace omnidso::cli {
 namespace {
@@ -39,15 +41,16 @@ struct RunArguments {
   std::string config;
   std::vector<std::string> settings;  // NAME=VALUE, applied after --config
   double playback_speed = 1.0;
+  bool skip_missing = false;  // drop frames whose images are missing instead of refusing
 };
 
 void refuseToOverwrite(const std::string& out, bool force) {
   namespace fs = std::filesystem;
+  if (out.empty()) throw Error("--out: empty path");
   if (fs::exists(out) && !fs::is_directory(out))
     throw Error(out + ": exists and is not a directory");
   if (fs::is_directory(out) && !fs::is_empty(out) && !force)
     throw Error(out + ": directory is not empty (pass --force to overwrite the run's files)");
-  fs::create_directories(out);
 }
 
 void printProgress(size_t done, size_t total, const Odometry& odometry) {
@@ -55,7 +58,16 @@ void printProgress(size_t done, size_t total, const Odometry& odometry) {
 }
 
 void runOdometry(const RunArguments& args) {
-  const DatasetIndex index = openDataset(args.dataset);
+  if (args.dataset.empty()) throw Error("DATASET: empty path");
+  DatasetOpenOptions open_options;
+  open_options.skip_missing_images = args.skip_missing;
+  const DatasetIndex index = openDataset(args.dataset, open_options);
+  for (const std::string& warning : index.warnings) std::cerr << "warning: " << warning << "\n";
+  // Read before the run, so that a bad file is reported now and not after an hour's work:
+  // every image header (truncated or foreign files; ~1 s for thousands) and the ground truth.
+  verifyDatasetImages(index);
+  std::optional<Trajectory> ground_truth;
+  if (index.groundtruth_path) ground_truth = synth::cameraGroundTruth(index);
   parsePinholeCrop(args.camera_model);  // reject a bad option before touching --out
   DatasetRunOptions options;
   options.camera_model = args.camera_model;
@@ -76,6 +88,7 @@ void runOdometry(const RunArguments& args) {
   if (!args.config.empty()) applyOdometryConfigFile(o, args.config);
   for (const std::string& s : args.settings) applyOdometrySettingAssignment(o, s);
   refuseToOverwrite(args.out, args.force);  // after every option has been checked
+  StagedDirectory out(args.out);              // --out changes only when the run completes
   if (!args.quiet && ::isatty(STDERR_FILENO))
     options.progress = [](size_t done, size_t total, const Odometry& odometry) {
       if (done % 10 == 0 || done == total) printProgress(done, total, odometry);
@@ -97,7 +110,9 @@ void runOdometry(const RunArguments& args) {
   description.frames_processed = total;
   description.wall_s = run.wall_s;
   description.settings = odometrySettingsJson(o);
-  const nlohmann::json summary = writeRunOutputs(args.out, index, odometry, description);
+  const nlohmann::json summary =
+      writeRunOutputs(out.path(), index, ground_truth, odometry, description);
+  out.commit();
   if (args.json) {
     std::cout << summary.dump(2) << "\n";
   } else {
@@ -147,6 +162,8 @@ void registerRunCommand(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--set", args->settings, "one odometry setting NAME=VALUE (repeatable; after --config)");
   cmd->add_flag("--force", args->force, "write into a non-empty --out");
+  cmd->add_flag("--skip-missing", args->skip_missing,
+                "drop the frames whose listed image is missing (default: refuse the dataset)");
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--json", args->json, "print the summary as JSON");
   cmd->callback([args] { runOdometry(*args); });

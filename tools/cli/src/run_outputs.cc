@@ -6,8 +6,9 @@
 #include <omnidso/cli/run_outputs.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/metrics.hpp>
+#include <omnidso/core/scale_drift.hpp>
+#include <omnidso/cli/scale_drift_json.hpp>
 #include <omnidso/core/trajectory_io.hpp>
-#include <omnidso/synth/dataset_loading.hpp>
 
 namespace omnidso::cli {
 namespace {
@@ -49,6 +50,8 @@ nlohmann::json evaluateSegment(const Trajectory& gt, const Trajectory& est, doub
     j["gt_path_length_m"] = length;
     if (length > 0) j["rmse_percent_of_path"] = 100.0 * r.ate.rmse / length;
     j["sim3_scale"] = r.alignment.scale();
+    if (const auto drift = computeScaleDrift(gt, est, r, defaultScaleDriftWindow(r.gt_length_m)))
+      j["scale_drift"] = scaleDriftJson(*drift);
   } catch (const Error& e) {
     j["error"] = e.what();
   }
@@ -60,6 +63,7 @@ void writeTum(const std::string& path, const Trajectory& t) { writeTrajectoryTum
 }  // namespace
 
 nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& index,
+                               const std::optional<Trajectory>& ground_truth,
                                const Odometry& odometry, const RunDescription& d) {
   // Trajectories, per segment and all together.
   std::map<int, Trajectory> frames_by_segment, keyframes_by_segment;
@@ -150,8 +154,8 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
   s["initialized"] = !all_keyframes.empty();
   if (!odometry.initialized()) s["initialization_status"] = odometry.initializationStatus();
 
-  if (index.groundtruth_path && !all_keyframes.empty()) {
-    const Trajectory gt = synth::cameraGroundTruth(index);
+  if (ground_truth && !all_keyframes.empty()) {
+    const Trajectory& gt = *ground_truth;
     const double rate = datasetFrameRate(index);
     const double max_dt = rate > 0 ? 0.5 / rate : 0.02;
     nlohmann::json segments = nlohmann::json::array();
@@ -172,7 +176,9 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
     s["ate_segments"] = segments;
     if (best >= 0) s["ate"] = segments[best];
   }
-  std::ofstream(out_dir + "/summary.json") << s.dump(2) << "\n";
+  std::ofstream summary(out_dir + "/summary.json");
+  summary << s.dump(2) << "\n";
+  if (!summary) throw Error(out_dir + "/summary.json: write failed");
   return s;
 }
 
@@ -209,6 +215,14 @@ void printRunSummary(std::ostream& os, const nlohmann::json& s) {
                             ? a["rmse_percent_of_path"].get<double>()
                             : 0.0,
                         a["gt_path_length_m"].get<double>());
+      if (a.contains("scale_drift")) {
+        const auto& d = a["scale_drift"];
+        os << fmt::format("scale drift (window {:.2f} m): {:+.2f} % over the sequence, {:+.2f} % "
+                          "per 10 m; local scale {:.3f} … {:.3f}\n",
+                          d["window_m"].get<double>(), d["percent_over_sequence"].get<double>(),
+                          d["percent_per_10m"].get<double>(), d["min_ratio"].get<double>(),
+                          d["max_ratio"].get<double>());
+      }
     } else {
       os << "keyframe ATE: " << a["error"].get<std::string>() << "\n";
     }

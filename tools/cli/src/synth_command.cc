@@ -39,15 +39,18 @@ struct SynthArguments {
   bool quiet = false;
 };
 
-// "WxH" → (W, H); throws omnidso::Error naming the option otherwise.
+// "WxH" → (W, H); throws omnidso::Error naming the option otherwise. The upper bound keeps a
+// mistyped size from asking for more memory than a machine has (8192² floats: 256 MB).
 std::pair<int, int> parseSize(const std::string& text) {
+  constexpr int kMaxSide = 8192;
   int width = 0;
   int height = 0;
   char x = 0;
   char rest = 0;
   if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' ||
-      width < 8 || height < 8) {
-    throw Error("--size: expected WxH with W, H >= 8 (e.g. 480x480), got '" + text + "'");
+      width < 8 || height < 8 || width > kMaxSide || height > kMaxSide) {
+    throw Error("--size: expected WxH with 8 <= W, H <= " + std::to_string(kMaxSide) +
+                " (e.g. 480x480), got '" + text + "'");
   }
   return {width, height};
 }

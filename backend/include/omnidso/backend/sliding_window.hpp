@@ -43,6 +43,7 @@
 #include <optional>
 #include <omnidso/backend/keyframe_marginalization_policy.hpp>
 #include <omnidso/backend/marginalizer.hpp>
+#include <omnidso/backend/new_point_refinement.hpp>
 #include <omnidso/backend/parameter_slots.hpp>
 #include <omnidso/backend/photometric_factory.hpp>
 #include <omnidso/core/pyramid.hpp>
@@ -105,6 +106,10 @@ struct WindowKeyframe {
   SE3d T_world_cam() const { return SE3d::fromParameters(pose.data()); }
 };
 
+// Whether DSO's pattern around `pixel` (level-L pixels of `image`), with the bilinear
+// footprint, lies inside the image: the condition for a host patch.
+bool hostPatchFits(const ImageF& image, const Eigen::Vector2d& pixel);
+
 struct WindowPoint {
   // inverse_distance_slot: the point's parameter block, owned by the window's ParameterSlots.
   explicit WindowPoint(double& inverse_distance_slot) : inverse_distance(inverse_distance_slot) {}
@@ -160,6 +165,12 @@ class SlidingWindow {
   // Activates a point hosted by keyframe host_id at a level-0 pixel. Returns its id, or -1
   // when the pattern leaves the host image or no other keyframe observes it validly.
   int addPoint(int host_id, const Eigen::Vector2d& pixel, double inverse_distance);
+  // A candidate's inverse distance optimised against every window keyframe with everything
+  // else held at the window's estimate, and the verdict whether to activate it
+  // (new_point_refinement.hpp). Changes nothing in the window.
+  NewPointRefinement refineNewPoint(int host_id, const Eigen::Vector2d& pixel,
+                                    double inverse_distance,
+                                    const NewPointRefinementOptions& options) const;
 
   WindowSolveSummary optimize();
   // Coarse to fine: the same problem with every photometric residual evaluated on pyramid

@@ -27,6 +27,13 @@ using CameraModelVariant =
                  DoubleSphereCamera<double>, KannalaBrandtCamera<double>,
                  DistortedCamera<PinholeCamera<double>>, DistortedCamera<UnifiedCamera<double>>>;
 
+// Plausibility limits of calibration files, so that a mistyped number is refused instead of
+// overflowing an int or giving a camera that sees nothing: image sides up to 100 000 px
+// (no sensor comes near), focal lengths and principal points up to 1e6 px in magnitude
+// (a focal length of 1e6 px is a 0.006° field of view on a 100 px image).
+constexpr int kMaxImageSide = 100000;
+constexpr double kMaxPixelMagnitude = 1e6;
+
 // The kName of every alternative of CameraModelVariant, in variant order.
 std::vector<std::string> knownCameraModelNames();
 
@@ -41,8 +48,9 @@ class Camera {
   // Builds a model from its name (kName or alias) and parameters in the model's internal
   // order [fx, fy, cx, cy, extra...]. Throws omnidso::Error for an unknown name (listing the
   // known ones), a wrong parameter count, non-finite parameters, non-positive focal lengths,
-  // out-of-range model parameters (UCM ξ < 0, DS ξ ≤ −1, α ∉ [0, 1], β ≤ 0) or a non-positive
-  // image size.
+  // out-of-range model parameters (UCM ξ < 0, DS ξ ≤ −1, α ∉ [0, 1], β ≤ 0), focal lengths
+  // or principal points beyond kMaxPixelMagnitude, or an image size outside
+  // [1, kMaxImageSide].
   static Camera create(const std::string& model_name, const Eigen::VectorXd& params, int width,
                        int height);
 

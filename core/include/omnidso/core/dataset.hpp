@@ -56,12 +56,22 @@ struct DatasetIndex {
   std::optional<std::string> vignette_path;
   std::optional<std::string> groundtruth_path;
   GroundTruthKind groundtruth_kind = GroundTruthKind::kNone;
+  // What the reader repaired (DatasetOpenOptions), "FILE: ..." — for the caller to show.
+  std::vector<std::string> warnings;
+};
+
+struct DatasetOpenOptions {
+  // Frames whose listed image is missing are dropped (with a warning) instead of refused.
+  // Off by default: a copy interrupted at the end is the usual cause, and a run on fewer
+  // frames than the user thinks gives numbers that are not comparable.
+  bool skip_missing_images = false;
 };
 
 // Detects the layout (TUM if DIR/times.txt or DIR/images exists, ASL if DIR/mav0 exists),
-// reads the frame list, checks that every listed image exists and that timestamps
+// reads the frame list, checks that every listed image exists (one error naming the index
+// file, the first missing frame's line and the missing images) and that timestamps
 // increase, and reads the first image's size from its header.
-DatasetIndex openDataset(const std::string& path);
+DatasetIndex openDataset(const std::string& path, const DatasetOpenOptions& options = {});
 
 // Width and height from the image file's header (PNG and JPEG parsed directly, and their
 // end marker checked so that truncated files are caught without decoding; other formats

@@ -11,6 +11,19 @@
 
 namespace omnidso {
 
+// The number of pyramid levels coarse-to-fine alignment should use for a w × h image: a level
+// is added while the current coarsest one has more than `min_coarsest_pixels` pixels and even
+// sides (DSO's rule, 5000), at most max_levels. 480×480 and 640×480 get 4 levels (coarsest
+// 60×60, 80×60), 752×480 gets 5 (47×30).
+//
+// Why not a fixed 5: on a 480×480 fisheye image whose content is the inscribed circle, the
+// fifth level is 30×30 with a content disc 13 pixels in radius, a third of it touched by the
+// black border; alignment there locked onto wrong rotations and the odometry lost its
+// rotation and then its scale on sequences of an independent renderer, while 4 levels (or the
+// same images upsampled 2×) tracked them (docs/performance.md, "Pyramid depth").
+int pyramidLevelsForImage(int width, int height, int min_coarsest_pixels = 5000,
+                          int max_levels = 6);
+
 class ImagePyramid {
  public:
   static constexpr int kDefaultNumLevels = 5;

@@ -32,7 +32,13 @@ namespace omnidso {
 struct OdometryOptions {
   int num_points = 2000;         // active points aimed at in the window
   int num_candidates = 2000;     // immature points selected per keyframe
-  int pyramid_levels = 5;
+  // Levels of every image pyramid (tracking, initialisation); 0: pyramidLevelsForImage of
+  // the camera's image size (core/pyramid.hpp), which also caps tracker.num_levels.
+  int pyramid_levels = 0;
+  // Pixels this close to a pixel without content (outside the camera's domain or the image
+  // mask, e.g. the black surround of a fisheye's image circle) are not used; −1: 2^levels + 3,
+  // the reach of the coarsest level (core/content_mask.hpp says why).
+  int content_margin_px = -1;
   std::uint64_t seed = 0;
   WindowOptions window;
   CoarseTrackerOptions tracker;
@@ -42,6 +48,9 @@ struct OdometryOptions {
   InitializerOptions initializer;
   double max_activation_interval_px = 8.0;  // immature point converged enough to activate
   double min_activation_quality = 3.0;
+  // Converged candidates are optimised against every window keyframe before activation;
+  // unobserved ones wait, inconsistent ones are dropped (new_point_refinement.hpp).
+  NewPointRefinementOptions activation;
   int max_keyframe_interval_frames = 0;      // > 0: force a keyframe after this many frames
   // Real-time mode: mapping (epipolar search, keyframes, window, marginalisation) in its own
   // thread while addFrame tracks the next frames; a lagging mapper skips the search in
@@ -90,8 +99,10 @@ struct OdometryPoint {
 class Odometry {
  public:
   // camera: distortion-free model (pinhole, ucm, eucm, ds, kb4) of the images passed in.
-  // image_mask (optional, camera-sized): pixels without image content (e.g. outside the
-  // source image after rectification); combined with the camera's own validity mask.
+  // image_mask (optional, camera-sized): 0 marks pixels without image content (outside the
+  // source image after rectification, or outside a fisheye's image circle:
+  // detectContentMask); combined with the camera's own validity mask, then eroded by
+  // OdometryOptions::content_margin_px.
   Odometry(const Camera& camera, OdometryOptions options = {}, const Mask& image_mask = Mask());
   ~Odometry();
 

@@ -9,7 +9,8 @@
 
 namespace omnidso::cli {
 
-// One row per run: dataset, camera model, N_f, run, seed, status, failure, metrics, log.
+// One row per run: dataset, camera model, N_f, run, seed, status (ok | failed | missing),
+// failure, metrics, log. failed_only: the failed runs (not the missing ones).
 TextTable runsTable(const std::vector<CellSummary>& cells, bool failed_only);
 
 // The rule for failed runs and medians, as tables.md states it.

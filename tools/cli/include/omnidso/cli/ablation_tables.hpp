@@ -9,7 +9,8 @@
 // (written by ablation_report.hpp).
 //
 // Rule: a value is the median over the successful runs of its cell; "(failed k/n)" after it
-// says that k of the n runs failed and were left out; "failed n/n" that none succeeded.
+// says that k of the n runs failed and were left out; "failed n/n" that none succeeded;
+// "(missing m/n)" that m runs have not finished (yet), when tables are collected early.
 // Table V pools the runs of all datasets of a camera model × N_f.
 
 #include <omnidso/cli/ablation_plan.hpp>
@@ -32,8 +33,10 @@ struct CellSummary {
   AblationCell cell;
   std::vector<RunResult> runs;  // in run order
   size_t succeeded = 0;
+  size_t missing = 0;  // runs not finished (RunResult::missing)
   // Medians over the successful runs (each column its own median).
-  std::optional<double> rmse_m, rmse_percent_of_path, tracking_ms, mapping_ms;
+  std::optional<double> rmse_m, rmse_percent_of_path, scale_drift_percent, tracking_ms,
+      mapping_ms;
   // Index into runs of the successful run with the median RMSE (the lower of the two
   // middle ones for an even count): the run drawn in the plots.
   std::optional<size_t> median_run;

@@ -15,9 +15,14 @@
 namespace omnidso::cli {
 
 struct DatasetRunOptions {
-  std::string camera_model = "native";  // native | pinhole-crop:FOV_DEG
+  // native | native-fov:FOV_DEG (the native model, pixels beyond FOV/2 from the optical axis
+  // masked: the field-of-view ablation without resampling) | pinhole-crop:FOV_DEG
+  std::string camera_model = "native";
   std::string calib;                    // overrides the dataset's calibration file
   size_t max_frames = 0;                // 0: all
+  // Mask the black surround of a fisheye's image circle, detected in the first frames
+  // (core/content_mask.hpp).
+  bool detect_content = true;
   // Real-time mode only: frames are fed at their timestamps' pace times this factor, as a
   // camera would deliver them (0: as fast as they can be read).
   double playback_speed = 1.0;
@@ -33,8 +38,11 @@ struct DatasetRun {
   double wall_s = 0.0;
 };
 
-// "native" → nullopt, "pinhole-crop:FOV" → FOV; throws omnidso::Error otherwise.
+// "native" and "native-fov:FOV" → nullopt, "pinhole-crop:FOV" → FOV; throws omnidso::Error
+// otherwise.
 std::optional<double> parsePinholeCrop(const std::string& camera_model);
+// "native-fov:FOV" → FOV, other names → nullopt; a malformed FOV throws omnidso::Error.
+std::optional<double> parseNativeFov(const std::string& camera_model);
 
 DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptions& options);
 

@@ -1,6 +1,7 @@
 #pragma once
 // Child processes run J at a time: each with its stdout and stderr in a log file, stdin from
-// /dev/null, and an optional wall-clock limit after which it is killed (SIGKILL). Used by
+// /dev/null, the default signal mask and dispositions (whatever the caller blocks), and an
+// optional wall-clock limit after which it is killed (SIGKILL). Used by
 // `omnidso ablate` to run every `omnidso run` as a separate process.
 
 #include <cstddef>
@@ -37,6 +38,9 @@ struct ProcessOutcome {
 struct ProcessCallbacks {
   std::function<void(std::size_t index)> started;
   std::function<void(std::size_t index, const ProcessOutcome& outcome)> finished;
+  // Polled while processes run; once it returns true, the running processes are killed
+  // (SIGKILL; `finished` reports them killed) and the rest are not started (no callback).
+  std::function<bool()> interrupted;
 };
 
 // Starts specs in list order, keeping at most `jobs` (≥ 1) running, and waits for all of

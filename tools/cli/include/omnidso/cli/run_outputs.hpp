@@ -13,6 +13,8 @@
 
 #include <nlohmann/json.hpp>
 #include <omnidso/core/dataset.hpp>
+#include <omnidso/core/trajectory.hpp>
+#include <optional>
 #include <omnidso/frontend/odometry.hpp>
 #include <ostream>
 #include <string>
@@ -35,7 +37,10 @@ struct RunDescription {
   nlohmann::json settings = nlohmann::json::object();  // every odometry setting (odometry_settings.hpp)
 };
 
+// ground_truth: the camera poses (synth::cameraGroundTruth), read by the caller before the
+// run so that a bad file stops it early; nullopt when the dataset has none.
 nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& index,
+                               const std::optional<Trajectory>& ground_truth,
                                const Odometry& odometry, const RunDescription& description);
 
 // The human-readable lines `omnidso run` and `make demo` print.

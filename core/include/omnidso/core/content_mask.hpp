@@ -1,0 +1,33 @@
+#pragma once
+// Where an image has content: fisheye and other wide-angle images hold the scene in a disc
+// (or a rounded frame) and are black outside it, although the camera model's domain goes on
+// beyond (UCM with ξ ≈ 1 is defined up to ≈ 160° from the axis). That black region is not
+// "dark scene": its edge is fixed in the image however the camera moves. Left in, the edge
+// enters pixel selection, the epipolar search and, through the pyramid's averaging, every
+// coarse level of tracking and initialisation — and a static edge around the whole image is
+// explained best by no motion, or by a roll about the optical axis, which leaves a circle
+// unchanged. On the independent renderer's 190° sequences it made the initialiser report a
+// 2.5° roll for a 7.3° yaw and locked the tracker onto wrong rotations (docs/performance.md,
+// "Finding the scale collapse").
+//
+// detectContentMask: a pixel lies outside the content when its raw value is at most
+// `black_level` in every one of the frames given AND it is connected (4-neighbourhood)
+// through such pixels to the image border. A dark region inside the image is never removed,
+// and a scene that is merely dark at the border is kept as soon as one frame shows it
+// brighter. Returns an all-content mask when the outside would cover more than
+// `max_outside_fraction` of the image (an all-black start, not a lens border).
+//
+// erodeContent: removes every pixel within `radius` pixels (Chebyshev distance) of a
+// non-content pixel inside the image; the image border itself does not erode.
+
+#include <omnidso/core/image.hpp>
+#include <vector>
+
+namespace omnidso {
+
+Mask detectContentMask(const std::vector<const ImageU16*>& frames, int black_level,
+                       double max_outside_fraction = 0.6);
+
+Mask erodeContent(const Mask& content, int radius);
+
+}  // namespace omnidso
