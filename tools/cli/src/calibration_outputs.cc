@@ -46,6 +46,22 @@ Json modelJson(const ModelCalibration& m, const CalibrationRun& run) {
               {"per_view", views}};
 }
 
+// The detected corners of every view with a board, and which of them the models were fitted
+// to, so that another calibrator can be run on exactly the same corners.
+Json detectionsJson(const CalibrationRun& run) {
+  Json views = Json::array();
+  for (size_t v = 0; v < run.detections.views.size(); ++v) {
+    Json corners = Json::array();
+    for (const Eigen::Vector2d& c : run.detections.views[v].corners)
+      corners.push_back({c.x(), c.y()});
+    views.push_back({{"image", run.detections.views[v].image},
+                     {"used", static_cast<bool>(run.report.selection.view_used[v])},
+                     {"corners", corners},
+                     {"corner_used", run.report.selection.corner_used[v]}});
+  }
+  return views;
+}
+
 std::string fmtNumber(double x, int digits) {
   return std::isfinite(x) ? fmt::format("{:.{}f}", x, digits) : "-";
 }
@@ -66,7 +82,8 @@ Json calibrationJson(const CalibrationRun& run) {
               {"outlier_threshold_px", r.outlier_threshold_px},
               {"selected", r.models[run.chosen].fit.camera.modelName()},
               {"selection", run.chosen_by_user ? "--select" : "lowest BIC"},
-              {"models", models}};
+              {"models", models},
+              {"detections", detectionsJson(run)}};
 }
 
 std::string comparisonMarkdown(const CalibrationRun& run) {

@@ -18,7 +18,8 @@ struct CalibrationRun {
 };
 
 // Everything of the run, per model: parameters with standard deviations, RMS, max, per-view
-// RMS, BIC, field of view, views and corners used; the dropped views and corners.
+// RMS, BIC, field of view, views and corners used; the dropped views and corners; every
+// view's detected corners (pixels, row-major) with the views and corners that were used.
 nlohmann::ordered_json calibrationJson(const CalibrationRun& run);
 
 // The side-by-side table of the models, then each model's parameters ± std dev.
