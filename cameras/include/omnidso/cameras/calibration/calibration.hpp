@@ -11,8 +11,8 @@
 //    when its RMS exceeds max(view_factor · median view RMS, min_outlier_px) or fewer than
 //    half of its corners remain. The reference is re-adjusted on what is kept.
 // 4. Each model: KB4 is the reference itself; another model is converted from the reference
-//    (fitCameraModelStarts: one solution per standard start); models with a ξ also start at
-//    ξ ∈ {−0.6 … 2} with the focal length at the axis, fx / (1 + ξ), held. Each start is
+//    (fitCameraModelStarts: one solution per standard start); Double Sphere also starts at
+//    ξ ∈ {−0.6 … 1} with the focal length at the axis, fx / (1 + ξ), held. Each start is
 //    refined on the corners with the reference's poses held (30 iterations), and the best
 //    one adjusted in full over the kept corners. The screen matters where a model has
 //    separate basins that fit nearly equally (Double Sphere's ξ and fx trade off along a
