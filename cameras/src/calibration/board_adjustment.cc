@@ -103,6 +103,8 @@ BoardAdjustment adjustModel(const BoardDetections& detections, const BoardSpec& 
                                      detections.height)};
   out.iterations = static_cast<int>(summary.iterations.size()) - 1;
   out.converged = summary.termination_type == ceres::CONVERGENCE;
+  out.usable = summary.IsSolutionUsable() && summary.termination_type != ceres::FAILURE;
+  out.solver_message = summary.message;
   for (size_t v = 0; v < poses.size(); ++v)
     out.T_camera_board.push_back(selection.view_used[v] ? fromBlock(poses[v]) : start_poses[v]);
   out.residuals = boardResiduals(detections, board, out.camera, out.T_camera_board);

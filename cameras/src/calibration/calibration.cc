@@ -37,6 +37,13 @@ double viewRms(const std::vector<Eigen::Vector2d>& residuals, const std::vector<
   return n > 0 ? std::sqrt(sum / n) : std::numeric_limits<double>::infinity();
 }
 
+// A failed solve keeps its start: reporting that as a calibration would be a silently wrong
+// number.
+void checkUsable(const BoardAdjustment& fit, const std::string& what) {
+  if (!fit.usable)
+    throw Error("calibration: the " + what + " adjustment failed: " + fit.solver_message);
+}
+
 // Step 3 of the header on the reference residuals.
 void dropOutliers(const BoardDetections& detections, const BoardAdjustment& reference,
                   const CalibrationOptions& options, CalibrationReport& report) {
@@ -118,7 +125,7 @@ Camera bestStart(const BoardDetections& detections, const BoardSpec& board,
     const BoardAdjustment fit =
         adjustBoards(detections, board, selection, starts[i], reference.T_camera_board, screen);
     screened.push_back(fit.camera);
-    if (fit.sum_squared_px < best_cost) best_cost = fit.sum_squared_px, best = i;
+    if (fit.usable && fit.sum_squared_px < best_cost) best_cost = fit.sum_squared_px, best = i;
   }
   return screened[best];
 }
@@ -186,10 +193,12 @@ CalibrationReport calibrateModels(const BoardDetections& detections, const Board
   reference_options.compute_covariance = false;
   BoardAdjustment reference = adjustBoards(detections, board, report.selection, start.camera,
                                            start.T_camera_board, reference_options);
+  checkUsable(reference, "kb4 reference");
   dropOutliers(detections, reference, options, report);
   if (report.selection.numViews() < kMinViews) throw tooFew("remain after dropping outliers");
   reference = adjustBoards(detections, board, report.selection, reference.camera,
                            reference.T_camera_board, options.adjustment);
+  checkUsable(reference, "kb4 reference");
 
   FitOptions conversion;
   conversion.samples_per_axis = 24;
@@ -205,6 +214,7 @@ CalibrationReport calibrateModels(const BoardDetections& detections, const Board
                          bestStart(detections, board, report.selection, reference, starts),
                          reference.T_camera_board, options.adjustment);
     }
+    checkUsable(fit, name);
     report.models.push_back(summariseFit(std::move(fit), report.selection));
   }
   for (size_t i = 1; i < report.models.size(); ++i)

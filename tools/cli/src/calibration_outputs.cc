@@ -117,6 +117,10 @@ std::string comparisonMarkdown(const CalibrationRun& run) {
                      r.dropped_corners, r.outlier_threshold_px, r.dropped_views.size(),
                      run.detections.without_board.size());
   for (const std::string& v : r.dropped_views) out += "- " + v + "\n";
+  for (const ModelCalibration& m : r.models)
+    if (!m.fit.converged)
+      out += fmt::format("\nNot converged: {} stopped after {} iterations ({}).\n",
+                         m.fit.camera.modelName(), m.fit.iterations, m.fit.solver_message);
   for (const ModelCalibration& m : r.models) {
     TextTable params;
     params.header = {"parameter", "value", "std dev"};

@@ -52,6 +52,10 @@ struct BoardAdjustment {
   double sum_squared_px = 0.0;   // Σ ‖r‖² over the used corners
   int iterations = 0;
   bool converged = false;
+  // False when Ceres refused the problem or failed (the parameters are then the start's,
+  // which must never be reported as a calibration); solver_message says why.
+  bool usable = false;
+  std::string solver_message{};
 };
 
 // Throws omnidso::Error for an unknown model name.
