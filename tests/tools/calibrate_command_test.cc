@@ -1,16 +1,21 @@
 // `omnidso calibrate` in-process on chessboard images rendered here through a known KB4
 // camera (ray casting each pixel onto the board plane, 3 × 3 supersampled), and its bad
-// input: each case one omnidso::Error (main() turns it into exit status 2) and no --out.
+// input: each case one omnidso::Error (main() turns it into exit status 2) and no --out,
+// and the same refusals through the executable (status 2, one line).
 #include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <omnidso/cameras/calibration_io.hpp>
 #include <omnidso/cli/commands.hpp>
 #include <omnidso/core/error.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sys/wait.h>
 
 namespace omnidso {
 namespace {
@@ -125,10 +130,16 @@ TEST_F(CalibrateCommandTest, CalibratesRenderedViewsAndWritesEveryOutput) {
   // photos against OpenCV and on exact synthetic corners; on these rendered views KB4's fx
   // comes out 4 % low — an open question about this renderer or the detector, see the
   // issue-17 report — so no accuracy is asserted here.)
-  const Camera kb4 = loadCalibration((out / "models/kb4/camchain.yaml").string());
-  EXPECT_EQ(kb4.modelName(), "kb4");
-  EXPECT_DOUBLE_EQ(kb4.params()[0],
-                   json["models"][0]["parameters"]["fx"]["value"].get<double>());
+  for (const nlohmann::json& model : json["models"]) {
+    const std::string name = model["model"].get<std::string>();
+    const Camera camera = loadCalibration((out / "models" / name / "camchain.yaml").string());
+    EXPECT_EQ(camera.modelName(), name);
+    const std::vector<std::string> names = camera.paramNames();
+    for (size_t i = 0; i < names.size(); ++i)
+      EXPECT_DOUBLE_EQ(camera.params()[static_cast<long>(i)],
+                       model["parameters"][names[i]]["value"].get<double>())
+          << name << " " << names[i];
+  }
   EXPECT_EQ(loadCalibration((out / "camchain.yaml").string()).modelName(),
             json["selected"].get<std::string>());
   // A second run into the same folder needs --force.
@@ -164,6 +175,35 @@ TEST_F(CalibrateCommandTest, RejectsUnreadableAndMixedSizeImages) {
   cv::imwrite((images() / "c.png").string(), cv::Mat(kHeight / 2, kWidth, CV_8U, cv::Scalar(90)));
   EXPECT_NE(failure(images().string() + " --board 8x6").find("c.png: image size 640x200 differs"),
             std::string::npos);
+}
+
+// The same refusals through the executable, as a user meets them: status 2, one line
+// "omnidso: error: ..." naming the cause, and no --out.
+TEST_F(CalibrateCommandTest, ExecutableExitsWithStatusTwoAndWritesNothing) {
+  const fs::path out = root_ / "out", log = root_ / "log.txt";
+  const auto refuse = [&](const std::string& arguments, const std::string& expected) {
+    SCOPED_TRACE(arguments);
+    const int status = std::system((std::string(OMNIDSO_EXECUTABLE) + " calibrate " + arguments +
+                                    " --out " + out.string() + " > " + log.string() + " 2>&1")
+                                       .c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 2);
+    std::ifstream file(log);
+    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text.rfind("omnidso: error: ", 0), 0u) << text;
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+    EXPECT_NE(text.find(expected), std::string::npos) << text;
+    EXPECT_FALSE(fs::exists(out));
+  };
+  refuse((root_ / "missing").string() + " --board 8x6", "no such folder");
+  refuse(images().string() + " --board 8x6", "no image files");
+  refuse(images().string() + " --board 8by6", "expected COLSxROWS");
+  refuse(images().string() + " --board 8x6 --models ucm,fisheye62", "fisheye62");
+  std::ofstream(images() / "b.png") << "not a PNG";
+  refuse(images().string() + " --board 8x6", "b.png: cannot read the image");
+  fs::remove(images() / "b.png");
+  cv::imwrite((images() / "blank.png").string(), cv::Mat(kHeight, kWidth, CV_8U, cv::Scalar(90)));
+  refuse(images().string() + " --board 8x6", "no 8x6 chessboard found");
 }
 
 TEST_F(CalibrateCommandTest, RejectsFewerThanFourViews) {
