@@ -8,20 +8,13 @@
 
 #include "omnidso/cameras/field_of_view.hpp"
 #include "omnidso/core/error.hpp"
+#include "penalised_projection.hpp"
 
 namespace omnidso {
 namespace {
 
-bool allFinite(double x) { return std::isfinite(x); }
-template <typename T, int N>
-bool allFinite(const ceres::Jet<T, N>& x) {
-  return std::isfinite(x.a) && x.v.allFinite();
-}
-
-// Pixel residual of one sampled bearing in the target model (autodiff). Outside the
-// target's domain — or where the model's arithmetic degenerates — the residual is a constant
-// penalty with zero derivative: finite, so Ceres never sees NaN, and larger than any fit
-// error, so steps that push samples out of the domain raise the cost and are rejected.
+// Pixel residual of one sampled bearing in the target model (autodiff), with the domain
+// penalty of penalised_projection.hpp.
 template <typename Model>
 struct BearingPixelResidual {
   Eigen::Vector3d bearing;
@@ -32,14 +25,8 @@ struct BearingPixelResidual {
   bool operator()(const T* params, T* residual) const {
     using ModelT = decltype(std::declval<Model>().template cast<T>());
     const ModelT model{typename ModelT::VecN(Eigen::Map<const typename ModelT::VecN>(params))};
-    Eigen::Matrix<T, 2, 1> uv;
-    if (model.project(bearing.cast<T>(), uv) && allFinite(uv.x()) && allFinite(uv.y())) {
-      residual[0] = uv.x() - T(pixel.x());
-      residual[1] = uv.y() - T(pixel.y());
-    } else {
-      residual[0] = T(penalty_px);
-      residual[1] = T(penalty_px);
-    }
+    detail::penalisedProjectionResidual(model, Eigen::Matrix<T, 3, 1>(bearing.cast<T>()), pixel,
+                                        penalty_px, residual);
     return true;
   }
 };
