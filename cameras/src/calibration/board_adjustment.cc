@@ -7,15 +7,10 @@
 
 #include "omnidso/cameras/model_fitting.hpp"
 #include "omnidso/core/error.hpp"
+#include "../penalised_projection.hpp"
 
 namespace omnidso {
 namespace {
-
-bool isFinite(double x) { return std::isfinite(x); }
-template <typename T, int N>
-bool isFinite(const ceres::Jet<T, N>& x) {
-  return std::isfinite(x.a) && x.v.allFinite();
-}
 
 // Residual of one detected corner: π(θ; exp(φ) X + t) − u (header formula).
 template <typename Model>
@@ -31,14 +26,7 @@ struct BoardCornerResidual {
     const Eigen::Matrix<T, 3, 1> phi(pose[0], pose[1], pose[2]);
     const Eigen::Matrix<T, 3, 1> t(pose[3], pose[4], pose[5]);
     const Eigen::Matrix<T, 3, 1> p = so3Exp(phi) * board_point.cast<T>() + t;
-    Eigen::Matrix<T, 2, 1> uv;
-    if (model.project(p, uv) && isFinite(uv.x()) && isFinite(uv.y())) {
-      residual[0] = uv.x() - T(detected.x());
-      residual[1] = uv.y() - T(detected.y());
-    } else {
-      residual[0] = T(penalty_px);
-      residual[1] = T(penalty_px);
-    }
+    detail::penalisedProjectionResidual(model, p, detected, penalty_px, residual);
     return true;
   }
 };
@@ -59,9 +47,17 @@ BoardAdjustment adjustModel(const BoardDetections& detections, const BoardSpec& 
                             const CornerSelection& selection, const Camera& start,
                             const std::vector<SE3d>& start_poses,
                             const AdjustmentOptions& options) {
-  Eigen::VectorXd intrinsics = start.params();
-  std::vector<PoseBlock> poses;
-  for (const SE3d& T : start_poses) poses.push_back(toBlock(T));
+  // Every parameter block in one buffer, the intrinsics first, then the poses in view order:
+  // Ceres orders blocks by address (the Schur elimination within a group, and the columns of
+  // ceres::Covariance's Jacobian), so a fixed layout keeps the results — the standard
+  // deviations too — bit for bit independent of the heap.
+  constexpr int kIntrinsics = Model::kNumParams;
+  std::vector<double> blocks(kIntrinsics + 6 * start_poses.size());
+  double* const intrinsics = blocks.data();
+  const auto pose = [&](size_t v) { return blocks.data() + kIntrinsics + 6 * v; };
+  Eigen::Map<Eigen::Matrix<double, kIntrinsics, 1>>{intrinsics} = start.params();
+  for (size_t v = 0; v < start_poses.size(); ++v)
+    Eigen::Map<PoseBlock>{pose(v)} = toBlock(start_poses[v]);
   const double penalty_px = std::hypot(detections.width, detections.height);
 
   ceres::Problem problem;
@@ -73,24 +69,23 @@ BoardAdjustment adjustModel(const BoardDetections& detections, const BoardSpec& 
           new ceres::AutoDiffCostFunction<BoardCornerResidual<Model>, 2, Model::kNumParams, 6>(
               new BoardCornerResidual<Model>{board.corner(k), detections.views[v].corners[k],
                                              penalty_px}),
-          new ceres::HuberLoss(options.huber_px), intrinsics.data(), poses[v].data());
+          new ceres::HuberLoss(options.huber_px), intrinsics, pose(v));
     }
   }
-  setParameterBounds(problem, intrinsics.data(), cameraParameterBounds(Model::kName));
+  setParameterBounds(problem, intrinsics, cameraParameterBounds(Model::kName));
   if (options.fix_poses)
-    for (size_t v = 0; v < poses.size(); ++v)
-      if (selection.view_used[v]) problem.SetParameterBlockConstant(poses[v].data());
+    for (size_t v = 0; v < start_poses.size(); ++v)
+      if (selection.view_used[v]) problem.SetParameterBlockConstant(pose(v));
 
   ceres::Solver::Options solver;
   solver.linear_solver_type = options.fix_poses ? ceres::DENSE_QR : ceres::DENSE_SCHUR;
-  // Poses eliminated first, then the intrinsics. Within a group Ceres orders blocks by
-  // address; the poses live in one vector, so that order is the view order in every run.
+  // Poses eliminated first (in view order: their addresses), then the intrinsics.
   if (!options.fix_poses) {
     solver.linear_solver_ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (size_t v = 0; v < poses.size(); ++v)
+    for (size_t v = 0; v < start_poses.size(); ++v)
       if (selection.view_used[v])
-        solver.linear_solver_ordering->AddElementToGroup(poses[v].data(), 0);
-    solver.linear_solver_ordering->AddElementToGroup(intrinsics.data(), 1);
+        solver.linear_solver_ordering->AddElementToGroup(pose(v), 0);
+    solver.linear_solver_ordering->AddElementToGroup(intrinsics, 1);
   }
   solver.max_num_iterations = options.max_iterations;
   solver.function_tolerance = 1e-15;
@@ -99,17 +94,20 @@ BoardAdjustment adjustModel(const BoardDetections& detections, const BoardSpec& 
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);
 
-  BoardAdjustment out{Camera::create(Model::kName, intrinsics, detections.width,
+  BoardAdjustment out{Camera::create(Model::kName,
+                                     Eigen::Map<const Eigen::VectorXd>(intrinsics, kIntrinsics),
+                                     detections.width,
                                      detections.height)};
   out.iterations = static_cast<int>(summary.iterations.size()) - 1;
   out.converged = summary.termination_type == ceres::CONVERGENCE;
   out.usable = summary.IsSolutionUsable() && summary.termination_type != ceres::FAILURE;
   out.solver_message = summary.message;
-  for (size_t v = 0; v < poses.size(); ++v)
-    out.T_camera_board.push_back(selection.view_used[v] ? fromBlock(poses[v]) : start_poses[v]);
+  for (size_t v = 0; v < start_poses.size(); ++v)
+    out.T_camera_board.push_back(
+        selection.view_used[v] ? fromBlock(Eigen::Map<const PoseBlock>(pose(v))) : start_poses[v]);
   out.residuals = boardResiduals(detections, board, out.camera, out.T_camera_board);
   int used = 0;
-  for (size_t v = 0; v < poses.size(); ++v) {
+  for (size_t v = 0; v < start_poses.size(); ++v) {
     if (!selection.view_used[v]) continue;
     for (int k = 0; k < board.numCorners(); ++k) {
       if (!selection.corner_used[v][k]) continue;
@@ -126,10 +124,10 @@ BoardAdjustment adjustModel(const BoardDetections& detections, const BoardSpec& 
     covariance_options.algorithm_type = ceres::DENSE_SVD;
     ceres::Covariance covariance(covariance_options);
     const std::vector<std::pair<const double*, const double*>> blocks = {
-        {intrinsics.data(), intrinsics.data()}};
+        {intrinsics, intrinsics}};
     if (covariance.Compute(blocks, &problem)) {
       Eigen::Matrix<double, Model::kNumParams, Model::kNumParams, Eigen::RowMajor> C;
-      covariance.GetCovarianceBlock(intrinsics.data(), intrinsics.data(), C.data());
+      covariance.GetCovarianceBlock(intrinsics, intrinsics, C.data());
       out.param_stddev = C.diagonal().cwiseSqrt() * out.noise_sigma_px;
     }
   }
