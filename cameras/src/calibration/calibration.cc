@@ -14,8 +14,8 @@ namespace {
 
 constexpr int kMinViews = 4;
 constexpr int kScreenIterations = 30;
-// ξ values tried along Double Sphere's ξ–focal valley (xiValleyStarts), spanning the
-// fisheye lenses of Usenko et al. (ξ ≈ −0.3 … 0.7) with a margin.
+// ξ values tried along Double Sphere's ξ–focal valley (xiValleyStarts): from below the
+// values of real fisheye lenses (≈ −0.2) to beyond the second basin seen here (0.4–0.5).
 constexpr double kXiGrid[] = {-0.6, -0.3, 0.0, 0.3, 0.6, 1.0};
 
 double median(std::vector<double> values) {
