@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "test_data.hpp"
 
 namespace omnidso::test {
@@ -30,7 +32,8 @@ inline std::unique_ptr<nlohmann::json> calibrateRealPhotos(const std::string& mo
   const auto dir = sharedDataDir("fisheye_calibration_jy");
   if (!dir) return nullptr;
   namespace fs = std::filesystem;
-  const fs::path out = fs::temp_directory_path() / ("omnidso_calibrate_real_" + models);
+  const fs::path out = fs::temp_directory_path() /
+                      ("omnidso_calibrate_real_" + models + "_" + std::to_string(::getpid()));
   fs::remove_all(out);
   const std::string command = std::string("'") + OMNIDSO_EXECUTABLE + "' calibrate '" +
                               (*dir / "left").string() + "' --board 8x6 --models " + models +
