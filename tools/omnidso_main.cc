@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   omnidso::cli::registerRunCommand(app);
   omnidso::cli::registerAblateCommand(app);
   omnidso::cli::registerAblateTaskCommand(app);
+  omnidso::cli::registerCalibrateCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -140,13 +140,17 @@ Camera loadDsoCameraTxt(const std::string& path) {
   }
 }
 
+std::string dsoCameraTxtKeyword(const std::string& name) {
+  if (name == "pinhole") return "Pinhole";
+  if (name == "pinhole-radtan") return "RadTan";
+  if (name == "kb4") return "KannalaBrandt";
+  if (name == "ucm") return "UCM";
+  return "";
+}
+
 void saveDsoCameraTxt(const std::string& path, const Camera& camera) {
   const std::string name = camera.modelName();
-  std::string keyword;
-  if (name == "pinhole") keyword = "Pinhole";
-  if (name == "pinhole-radtan") keyword = "RadTan";
-  if (name == "kb4") keyword = "KannalaBrandt";
-  if (name == "ucm") keyword = "UCM";
+  const std::string keyword = dsoCameraTxtKeyword(name);
   if (keyword.empty()) {
     throw Error(path + ": DSO's camera.txt has no form for camera model '" + name +
                 "' (it has pinhole, pinhole-radtan, kb4 and, as this project's extension, ucm)");

@@ -8,20 +8,13 @@
 
 #include "omnidso/cameras/field_of_view.hpp"
 #include "omnidso/core/error.hpp"
+#include "penalised_projection.hpp"
 
 namespace omnidso {
 namespace {
 
-bool allFinite(double x) { return std::isfinite(x); }
-template <typename T, int N>
-bool allFinite(const ceres::Jet<T, N>& x) {
-  return std::isfinite(x.a) && x.v.allFinite();
-}
-
-// Pixel residual of one sampled bearing in the target model (autodiff). Outside the
-// target's domain — or where the model's arithmetic degenerates — the residual is a constant
-// penalty with zero derivative: finite, so Ceres never sees NaN, and larger than any fit
-// error, so steps that push samples out of the domain raise the cost and are rejected.
+// Pixel residual of one sampled bearing in the target model (autodiff), with the domain
+// penalty of penalised_projection.hpp.
 template <typename Model>
 struct BearingPixelResidual {
   Eigen::Vector3d bearing;
@@ -32,14 +25,8 @@ struct BearingPixelResidual {
   bool operator()(const T* params, T* residual) const {
     using ModelT = decltype(std::declval<Model>().template cast<T>());
     const ModelT model{typename ModelT::VecN(Eigen::Map<const typename ModelT::VecN>(params))};
-    Eigen::Matrix<T, 2, 1> uv;
-    if (model.project(bearing.cast<T>(), uv) && allFinite(uv.x()) && allFinite(uv.y())) {
-      residual[0] = uv.x() - T(pixel.x());
-      residual[1] = uv.y() - T(pixel.y());
-    } else {
-      residual[0] = T(penalty_px);
-      residual[1] = T(penalty_px);
-    }
+    detail::penalisedProjectionResidual(model, Eigen::Matrix<T, 3, 1>(bearing.cast<T>()), pixel,
+                                        penalty_px, residual);
     return true;
   }
 };
@@ -58,28 +45,22 @@ std::vector<Sample> bearingSamples(const Camera& source, int per_axis, int bound
   return samples;
 }
 
-// Per target model: starting values of the parameters after [fx, fy, cx, cy], and bounds that
-// keep the solver inside Camera::create's ranges (ξ ≥ 0 or DS ξ > −1, α ∈ [0, 1], β > 0).
+// Per target model: starting values of the parameters after [fx, fy, cx, cy], and the bounds
+// of cameraParameterBounds.
 struct ModelStarts {
   std::vector<std::vector<double>> extras;
-  std::vector<std::pair<int, std::pair<double, double>>> bounds;  // index, (lower, upper)
+  std::vector<ParameterBound> bounds;
 };
 
 ModelStarts startsFor(const std::string& name) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   const std::vector<double> no_distortion{0, 0, 0, 0};
-  if (name == "ucm") return {{{0.0}, {0.5}, {1.0}}, {{4, {0.0, kInf}}}};
-  if (name == "ucm-radtan") {
-    return {{{0, 0, 0, 0, 0}, {0.5, 0, 0, 0, 0}, {1.0, 0, 0, 0, 0}}, {{4, {0.0, kInf}}}};
-  }
-  if (name == "eucm") {
-    return {{{0.3, 1.0}, {0.5, 1.0}, {0.6, 1.2}}, {{4, {0.0, 1.0}}, {5, {1e-6, kInf}}}};
-  }
-  if (name == "ds") {
-    return {{{0.0, 0.5}, {0.0, 0.6}, {0.2, 0.5}}, {{4, {-1.0 + 1e-6, kInf}}, {5, {0.0, 1.0}}}};
-  }
-  if (name == "kb4" || name == "pinhole-radtan") return {{no_distortion}, {}};
-  return {{{}}, {}};
+  const std::vector<ParameterBound> bounds = cameraParameterBounds(name);
+  if (name == "ucm") return {{{0.0}, {0.5}, {1.0}}, bounds};
+  if (name == "ucm-radtan") return {{{0, 0, 0, 0, 0}, {0.5, 0, 0, 0, 0}, {1.0, 0, 0, 0, 0}}, bounds};
+  if (name == "eucm") return {{{0.3, 1.0}, {0.5, 1.0}, {0.6, 1.2}}, bounds};
+  if (name == "ds") return {{{0.0, 0.5}, {0.0, 0.6}, {0.2, 0.5}}, bounds};
+  if (name == "kb4" || name == "pinhole-radtan") return {{no_distortion}, bounds};
+  return {{{}}, bounds};
 }
 
 // Pixels per radian along +x at the principal point: the focal length as the image sees it
@@ -111,14 +92,7 @@ double solveFrom(Eigen::VectorXd& params, const std::vector<Sample>& samples,
             new BearingPixelResidual<Model>{s.bearing, s.pixel, penalty_px}),
         nullptr, params.data());
   }
-  problem.SetParameterLowerBound(params.data(), 0, 1e-6);
-  problem.SetParameterLowerBound(params.data(), 1, 1e-6);
-  for (const auto& [index, range] : starts.bounds) {
-    if (std::isfinite(range.first))
-      problem.SetParameterLowerBound(params.data(), index, range.first);
-    if (std::isfinite(range.second))
-      problem.SetParameterUpperBound(params.data(), index, range.second);
-  }
+  setParameterBounds(problem, params.data(), starts.bounds);
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;
   options.max_num_iterations = max_iterations;
@@ -132,7 +106,7 @@ double solveFrom(Eigen::VectorXd& params, const std::vector<Sample>& samples,
 }
 
 template <typename Model>
-Eigen::VectorXd fitParameters(const Camera& source, const std::string& target_name,
+std::vector<Eigen::VectorXd> fitParameters(const Camera& source, const std::string& target_name,
                               const std::vector<Sample>& samples, const FitOptions& options) {
   const Eigen::VectorXd src = source.params();
   const double penalty_px = std::hypot(source.width(), source.height());
@@ -155,21 +129,22 @@ Eigen::VectorXd fitParameters(const Camera& source, const std::string& target_na
       initial.push_back(p);
     }
   }
-  Eigen::VectorXd best;
-  double best_cost = std::numeric_limits<double>::infinity();
+  // (cost, parameters) of every start, lowest cost first.
+  std::vector<std::pair<double, Eigen::VectorXd>> solved;
   for (Eigen::VectorXd p : initial) {
     const double cost = solveFrom<Model>(p, samples, starts, penalty_px, options.max_iterations);
-    if (cost < best_cost) {
-      best_cost = cost;
-      best = p;
-    }
+    if (std::isfinite(cost)) solved.emplace_back(cost, p);
   }
-  if (best.size() == 0) throw Error("fitting '" + target_name + "': no usable initialisation");
-  return best;
+  if (solved.empty()) throw Error("fitting '" + target_name + "': no usable initialisation");
+  std::stable_sort(solved.begin(), solved.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<Eigen::VectorXd> out;
+  for (auto& [cost, p] : solved) out.push_back(std::move(p));
+  return out;
 }
 
 template <size_t I = 0>
-Eigen::VectorXd fitByName(const Camera& source, const std::string& name,
+std::vector<Eigen::VectorXd> fitByName(const Camera& source, const std::string& name,
                           const std::vector<Sample>& samples, const FitOptions& options) {
   if constexpr (I == std::variant_size_v<CameraModelVariant>) {
     throw Error("unknown camera model '" + name + "'");
@@ -181,6 +156,41 @@ Eigen::VectorXd fitByName(const Camera& source, const std::string& name,
 }
 
 }  // namespace
+
+std::vector<ParameterBound> cameraParameterBounds(const std::string& name) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<ParameterBound> bounds = {{0, 1e-6, kInf}, {1, 1e-6, kInf}};
+  if (name == "ucm" || name == "ucm-radtan") bounds.push_back({4, 0.0, kInf});
+  if (name == "eucm") {
+    bounds.push_back({4, 0.0, 1.0});
+    bounds.push_back({5, 1e-6, kInf});
+  }
+  if (name == "ds") {
+    bounds.push_back({4, -1.0 + 1e-6, kInf});
+    bounds.push_back({5, 0.0, 1.0});
+  }
+  return bounds;
+}
+
+void setParameterBounds(ceres::Problem& problem, double* params,
+                        const std::vector<ParameterBound>& bounds) {
+  for (const ParameterBound& b : bounds) {
+    if (std::isfinite(b.lower)) problem.SetParameterLowerBound(params, b.index, b.lower);
+    if (std::isfinite(b.upper)) problem.SetParameterUpperBound(params, b.index, b.upper);
+  }
+}
+
+std::vector<Camera> fitCameraModelStarts(const Camera& source, const std::string& target_model,
+                                         const FitOptions& options) {
+  const std::string name = canonicalCameraModelName(target_model);
+  const std::vector<Sample> samples =
+      bearingSamples(source, options.samples_per_axis, options.boundary_samples);
+  if (samples.empty()) throw Error("fitting '" + name + "': the source has no valid pixels");
+  std::vector<Camera> cameras;
+  for (const Eigen::VectorXd& p : fitByName(source, name, samples, options))
+    cameras.push_back(Camera::create(name, p, source.width(), source.height()));
+  return cameras;
+}
 
 std::vector<Eigen::Vector2d> fitSamplePixels(const Camera& source, int per_axis,
                                              int boundary_samples) {
@@ -220,7 +230,7 @@ FitResult fitCameraModel(const Camera& source, const std::string& target_model,
   const std::vector<Sample> samples =
       bearingSamples(source, options.samples_per_axis, options.boundary_samples);
   if (samples.empty()) throw Error("fitting '" + name + "': the source has no valid pixels");
-  const Eigen::VectorXd params = fitByName(source, name, samples, options);
+  const Eigen::VectorXd params = fitByName(source, name, samples, options).front();
 
   FitResult result{Camera::create(name, params, source.width(), source.height())};
   result.num_samples = static_cast<int>(samples.size());

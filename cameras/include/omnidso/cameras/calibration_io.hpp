@@ -63,6 +63,9 @@ SensorCalibration loadEurocSensor(const std::string& path);
 // Writes `cam0:` with camera_model, intrinsics, distortion_model, distortion_coeffs,
 // resolution. Every model of CameraModelVariant has a Kalibr form.
 void saveKalibr(const std::string& path, const Camera& camera);
+// The camera.txt keyword of a model (Pinhole, RadTan, KannalaBrandt, UCM); empty for the
+// models camera.txt cannot hold (eucm, ds, ucm-radtan).
+std::string dsoCameraTxtKeyword(const std::string& model_name);
 // Throws omnidso::Error for models camera.txt cannot hold (eucm, ds, ucm-radtan).
 void saveDsoCameraTxt(const std::string& path, const Camera& camera);
 

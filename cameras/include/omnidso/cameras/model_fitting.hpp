@@ -16,10 +16,29 @@
 // are counted in `validation_outside_domain` and not in the error figures.
 
 #include <string>
+#include <vector>
 
 #include "omnidso/cameras/camera.hpp"
 
+namespace ceres {
+class Problem;
+}
+
 namespace omnidso {
+
+// A box constraint on one parameter (index in the model's order; ±infinity: none).
+struct ParameterBound {
+  int index;
+  double lower;
+  double upper;
+};
+
+// The bounds that keep a solver inside Camera::create's ranges: fx, fy > 0 (1e-6), UCM ξ ≥ 0,
+// EUCM α ∈ [0, 1] and β > 0, DS ξ > −1 and α ∈ [0, 1].
+std::vector<ParameterBound> cameraParameterBounds(const std::string& canonical_name);
+// Applies `bounds` to the parameter block `params` of `problem`.
+void setParameterBounds(ceres::Problem& problem, double* params,
+                        const std::vector<ParameterBound>& bounds);
 
 struct FitOptions {
   int samples_per_axis = 40;      // fitting grid: samples along the longer image side
@@ -40,6 +59,12 @@ struct FitResult {
 // Throws omnidso::Error for an unknown target model name (aliases as in Camera::create).
 FitResult fitCameraModel(const Camera& source, const std::string& target_model,
                          const FitOptions& options = FitOptions());
+
+// The solution from every start fitCameraModel tries, lowest fitting cost first (the first is
+// fitCameraModel's camera). For callers that refine further on other data (calibration),
+// where the start that fits the source best need not lead to the best minimum.
+std::vector<Camera> fitCameraModelStarts(const Camera& source, const std::string& target_model,
+                                         const FitOptions& options = FitOptions());
 
 // The validation pixels of `source` used by fitCameraModel (valid pixels of a grid with
 // `per_axis` samples along the longer side, half a step in from the border, plus

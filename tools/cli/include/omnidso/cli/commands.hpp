@@ -15,5 +15,6 @@ void registerDatasetCommand(CLI::App& app);  // omnidso dataset info
 void registerRunCommand(CLI::App& app);      // omnidso run (the odometry)
 void registerAblateCommand(CLI::App& app);   // omnidso ablate (the paper's ablation)
 void registerAblateTaskCommand(CLI::App& app);  // omnidso ablate-task (one run, in a cluster job)
+void registerCalibrateCommand(CLI::App& app);  // omnidso calibrate (chessboard images)
 
 }  // namespace omnidso::cli
