@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <omnidso/frontend/initializer.hpp>
 #include <omnidso/synth/synthetic_sequence.hpp>
@@ -14,6 +15,33 @@ namespace omnidso {
 namespace {
 
 constexpr double kBlurSigmaPx = 1.0;  // a lens-like blur, as in the window tests
+
+struct Initialisation {
+  InitializationResult result;
+  SE3d truth;  // T_frame_first of the last frame fed
+  std::string status;
+};
+
+// Feeds the frames at start · path(k), k = 1 … max_frames, until the initialiser is done.
+Initialisation initialiseAlong(const Camera& camera, const test::RenderedScene& scene, int levels,
+                               int max_frames, const std::function<SE3d(const SE3d&, int)>& path) {
+  const SE3d start = scene.centralPose();
+  Initializer initializer(camera, validityMask(camera));
+  initializer.setFirstFrame(scene.renderPyramid(start, levels, kBlurSigmaPx), 1.0);
+  Initialisation out;
+  for (int k = 1; k <= max_frames && !out.result.done; ++k) {
+    const SE3d pose = path(start, k);
+    out.result = initializer.addFrame(*scene.renderPyramid(pose, levels, kBlurSigmaPx), 1.0);
+    out.truth = pose.inverse() * start;
+  }
+  out.status = initializer.status();
+  return out;
+}
+
+double rotationErrorDeg(const Initialisation& init) {
+  return so3Log(init.result.T_frame_first.rotation().conjugate() * init.truth.rotation()).norm() *
+         180 / M_PI;
+}
 
 // A camera turning by 0.4° per frame about two axes and barely translating (1 mm per
 // frame), as a hand-held camera does before the user starts walking. Distances are not
@@ -47,24 +75,18 @@ TEST(Initializer, InitialisesFromTranslationWithTrueDirectionAndDistances) {
   const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
   const test::RenderedScene scene(camera, 3);
   const SE3d start = scene.centralPose();
-  Initializer initializer(camera, validityMask(camera));
-  initializer.setFirstFrame(scene.renderPyramid(start, 5, kBlurSigmaPx), 1.0);
-  InitializationResult result;
-  SE3d truth;
-  for (int k = 1; k <= 20 && !result.done; ++k) {
-    const SE3d pose = test::moveInCamera(start, {0.015 * k, 0.0, 0.005 * k}, {0.0, 0.3 * k, 0.0});
-    result = initializer.addFrame(*scene.renderPyramid(pose, 5, kBlurSigmaPx), 1.0);
-    truth = pose.inverse() * start;  // T_frame_first
-  }
-  ASSERT_TRUE(result.done) << initializer.status();
+  const Initialisation init = initialiseAlong(camera, scene, 5, 20, [](const SE3d& s, int k) {
+    return test::moveInCamera(s, {0.015 * k, 0.0, 0.005 * k}, {0.0, 0.3 * k, 0.0});
+  });
+  const InitializationResult& result = init.result;
+  ASSERT_TRUE(result.done) << init.status;
 
   // Direction of the translation: the monocular scale is arbitrary, the direction is not.
   // Parallax of ≈ 10 px on 1000-odd points pins it to within a few degrees.
   const double cos_angle = result.T_frame_first.translation().normalized().dot(
-      truth.translation().normalized());
+      init.truth.translation().normalized());
   EXPECT_GT(cos_angle, std::cos(5.0 * M_PI / 180.0));
-  const double rotation_error_deg =
-      so3Log(result.T_frame_first.rotation().conjugate() * truth.rotation()).norm() * 180 / M_PI;
+  const double rotation_error_deg = rotationErrorDeg(init);
   EXPECT_LT(rotation_error_deg, 0.2);
 
   // Distances up to one scale (the median ratio): the median deviation from it stays below
@@ -103,21 +125,13 @@ TEST(Initializer, InitialisesFromTranslationWithTrueDirectionAndDistances) {
 TEST(Initializer, TracksAFastSwingFromTheFirstFrame) {
   const Camera camera = synth::syntheticCamera("pinhole", 90.0, 320, 320);
   const test::RenderedScene scene(camera, 3);
-  const SE3d start = scene.centralPose();
-  Initializer initializer(camera, validityMask(camera));
-  initializer.setFirstFrame(scene.renderPyramid(start, 4, kBlurSigmaPx), 1.0);
-  InitializationResult result;
-  SE3d truth;
-  for (int k = 1; k <= 10 && !result.done; ++k) {
+  const Initialisation init = initialiseAlong(camera, scene, 4, 10, [](const SE3d& s, int k) {
     const double turn_deg = 7.0 + 0.3 * k;
-    const SE3d pose = test::moveInCamera(start, {0.02 * k, 0.0, 0.0}, {turn_deg, turn_deg, 0.0});
-    result = initializer.addFrame(*scene.renderPyramid(pose, 4, kBlurSigmaPx), 1.0);
-    truth = pose.inverse() * start;
-  }
-  ASSERT_TRUE(result.done) << initializer.status();
-  const double rotation_error_deg =
-      so3Log(result.T_frame_first.rotation().conjugate() * truth.rotation()).norm() * 180 / M_PI;
-  std::cout << initializer.status() << "; rotation error " << rotation_error_deg << " deg\n";
+    return test::moveInCamera(s, {0.02 * k, 0.0, 0.0}, {turn_deg, turn_deg, 0.0});
+  });
+  ASSERT_TRUE(init.result.done) << init.status;
+  const double rotation_error_deg = rotationErrorDeg(init);
+  std::cout << init.status << "; rotation error " << rotation_error_deg << " deg\n";
   // 0.11° measured; a wrong basin is off by degrees.
   EXPECT_LT(rotation_error_deg, 0.3);
 }
