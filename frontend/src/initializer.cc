@@ -89,7 +89,6 @@ struct Initializer::Impl {
     snapped_at = -1;
   }
 
-  // One level: returns the RMS residual over valid pattern pixels, and the valid mask.
   // One level's problem: a photometric residual for every point that projects validly from
   // the current pose, its distance regulariser, and the frame's affine prior. Before the snap
   // the distances are tied to 1 and the translation to 0 (fixing the scale the translation
