@@ -58,8 +58,11 @@ struct WindowOptions {
   int max_keyframes = 7;  // N_f
   bool optimize_intrinsics = true;
   // intrinsics_prior.hpp: energy per squared pixel of image displacement pulling the
-  // intrinsics towards the calibration they started from; 0 leaves them free.
-  double intrinsics_prior_weight = 0.0;
+  // intrinsics towards the calibration they started from; 0 leaves them free. The default is
+  // DSO's prior (a Hessian of 5·10⁹ on f/50, i.e. 2·10⁶ per px²): on a 90° crop the free
+  // intrinsics wandered by 2–3 px and took the scale with them (D2: 5.9 % of the path and
+  // −100 % scale drift free, 1.5 % held; docs/performance.md, "The calibration prior").
+  double intrinsics_prior_weight = 2e6;
   DifferentiationMode differentiation = DifferentiationMode::kAnalytic;
   // Per keyframe. The tracker's estimates arrive nearly right: on four rendered sequences 2
   // iterations were as accurate as 3, 4 or 6 (docs/performance.md) at a third of the cost
