@@ -154,7 +154,14 @@ struct Odometry::Impl {
     first_rmse = std::numeric_limits<double>::infinity();
   }
 
-  void activatePoints(int newest_id) {
+  // leaving: the keyframes this keyframe step will marginalise. Their points neither count
+  // against num_points nor occupy a cell, and their candidates are not activated: activation
+  // refills the window that remains. (With N_f = 3 the initial keyframe holds every point
+  // when it leaves; counting its points left the window empty and tracking lost.)
+  void activatePoints(int newest_id, const std::vector<int>& leaving) {
+    const auto is_leaving = [&leaving](int id) {
+      return std::find(leaving.begin(), leaving.end(), id) != leaving.end();
+    };
     const WindowKeyframe& newest = window->keyframe(newest_id);
     const SE3d T_newest_world = newest.T_world_cam().inverse();
     // Occupancy grid in the newest keyframe: one point per cell keeps the map spread out.
@@ -168,12 +175,16 @@ struct Odometry::Impl {
       return static_cast<size_t>(static_cast<int>(u.y() / cell)) * gw +
              static_cast<size_t>(static_cast<int>(u.x() / cell));
     };
+    int num_staying = 0;
     for (const auto& [pid, point] : window->points()) {
+      if (is_leaving(point->host_id)) continue;
+      ++num_staying;
       if (!(point->inverse_distance > 0.0)) continue;
       Eigen::Vector2d u;
       if (camera.project(T_newest_world * window->pointInWorld(*point), u)) occupied[cellOf(u)] = 1;
     }
     for (auto& [host_id, list] : immature) {
+      if (is_leaving(host_id)) continue;
       const SE3d T_world_host = window->keyframe(host_id).T_world_cam();
       std::vector<ImmaturePoint> keep;
       for (ImmaturePoint& p : list) {
@@ -183,7 +194,7 @@ struct Odometry::Impl {
                                p.last_interval_px <= options.max_activation_interval_px &&
                                p.quality >= options.min_activation_quality;
         const double d = p.inverseDistanceEstimate();
-        if (!converged || window->numPoints() >= options.num_points || !(d > 0.0)) {
+        if (!converged || num_staying >= options.num_points || !(d > 0.0)) {
           keep.push_back(p);
           continue;
         }
@@ -207,6 +218,7 @@ struct Odometry::Impl {
         }
         if (in_newest) occupied[cellOf(u)] = 1;
         if (window->addPoint(host_id, p.pixel, activation_d) < 0) continue;  // no valid residual
+        ++num_staying;
       }
       list.swap(keep);
     }
@@ -216,14 +228,17 @@ struct Odometry::Impl {
                     double exposure, const SE3d& T_world_frame, const Eigen::Vector2d& affine) {
     window->addKeyframe(record.index, record.timestamp, exposure, T_world_frame, affine, pyramid);
     keyframes[record.index] = {record.index, record.timestamp, segment, T_world_frame};
-    activatePoints(record.index);
+    // DSO's order: the keyframes to marginalise are chosen once the new keyframe observes
+    // the window's points, before activation, and marginalised after the optimisation.
+    const std::vector<int> leaving = window->keyframesToMarginalize(options.marginalization);
+    activatePoints(record.index, leaving);
     Stopwatch stage;
     window->optimize();
     record.timing.window_ms = stage.lapMs();
     window->removeOutliers();
     refreshKeyframeRecords();
     stage.restart();
-    for (int id : window->keyframesToMarginalize(options.marginalization)) {
+    for (int id : leaving) {
       window->marginalizeKeyframe(id);
       immature.erase(id);
     }
