@@ -63,7 +63,6 @@ struct Odometry::Impl {
   double last_rmse = std::numeric_limits<double>::infinity();
   double first_rmse = std::numeric_limits<double>::infinity();  // since the newest keyframe
   SE3d T_world_last, T_world_prev;
-  int frames_tracked = 0;
   Eigen::Vector2d last_affine = Eigen::Vector2d::Zero();
   int frames_since_keyframe = 0;
   Eigen::VectorXd last_intrinsics;  // of the last finished segment

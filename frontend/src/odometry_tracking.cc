@@ -1,10 +1,11 @@
 // The tracking side of the odometry (odometry.hpp, steps 2 and 4) and its hand-off to
 // mapping. A frame is aligned to the newest published tracking reference (CoarseTracker with
-// DSO's motion hypotheses), the keyframe decision is taken, and the frame goes to mapping as a
-// MappingJob: at once in the deterministic mode, through the MappingWorker queue in the
-// real-time mode, where a lagging mapper skips non-keyframes' search. The reference is the
-// one thing the two threads exchange: mapping publishes it under reference_mutex
-// (setTrackingReference), tracking adopts it at its next frame (adoptPublishedReference).
+// DSO's motion hypotheses), the keyframe decision is taken, and the frame goes to mapping as
+// a MappingJob: at once in the deterministic mode, through the MappingWorker queue in the
+// real-time mode, where a lagging mapper skips non-keyframes' search. Besides the frame
+// records, the reference is all the two threads exchange: mapping publishes it under
+// reference_mutex (setTrackingReference), tracking adopts it at its next frame
+// (adoptPublishedReference).
 #include <cmath>
 #include <omnidso/core/timing.hpp>
 
