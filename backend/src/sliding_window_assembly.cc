@@ -1,0 +1,109 @@
+// SlidingWindow's problem assembly (sliding_window.hpp): keyframes enter with their pose and
+// affine parameter blocks (the first one held constant: the pose and brightness gauge), points
+// with their inverse-distance block, and one photometric residual block per (point, target
+// keyframe) pair whose projection is valid — eq. 5–7 with DSO's 8-pixel pattern, wrapped in
+// OutOfBoundsPenalty and, when evaluations are reused, in ReusingCostFunction.
+#include <omnidso/backend/affine_prior.hpp>
+#include <omnidso/backend/sliding_window.hpp>
+#include <omnidso/cameras/pyramid_scaling.hpp>
+#include <omnidso/core/error.hpp>
+#include <omnidso/residuals/out_of_bounds_penalty.hpp>
+#include <omnidso/residuals/reusing_cost_function.hpp>
+
+namespace omnidso {
+
+void SlidingWindow::addKeyframe(int id, double timestamp, double exposure,
+                                const SE3d& T_world_cam, const Eigen::Vector2d& affine,
+                                std::shared_ptr<const ImagePyramid> pyramid) {
+  for (const auto& kf : keyframes_)
+    if (kf->id == id) throw Error("SlidingWindow: keyframe " + std::to_string(id) + " added twice");
+  if (!pyramid) throw Error("SlidingWindow: keyframe " + std::to_string(id) + " has no image");
+  auto kf = std::make_unique<WindowKeyframe>();
+  kf->id = id;
+  kf->timestamp = timestamp;
+  kf->exposure = exposure;
+  T_world_cam.toParameters(kf->pose.data());
+  kf->affine = {affine.x(), affine.y()};
+  kf->pyramid = std::move(pyramid);
+  problem_->AddParameterBlock(kf->pose.data(), 7, pose_manifold_.get());
+  problem_->AddParameterBlock(kf->affine.data(), 2);
+  if (options_.affine_prior_weight_a > 0 || options_.affine_prior_weight_b > 0)
+    problem_->AddResidualBlock(new AffinePrior(Eigen::Vector2d::Zero(), options_.affine_prior_weight_a,
+                                               options_.affine_prior_weight_b),
+                               nullptr, kf->affine.data());
+  if (anchor_keyframe_id_ < 0 && !has_prior_) {
+    anchor_keyframe_id_ = id;  // gauge: pose and brightness offset
+    problem_->SetParameterBlockConstant(kf->pose.data());
+    problem_->SetParameterBlockConstant(kf->affine.data());
+  }
+  WindowKeyframe& target = *kf;
+  keyframes_.push_back(std::move(kf));
+  for (auto& [pid, point] : points_)
+    if (point->host_id != id) addResidual(*point, target);
+}
+
+std::optional<WindowObservation> SlidingWindow::observation(const WindowPoint& point,
+                                                           const WindowKeyframe& target,
+                                                           int level) const {
+  const WindowKeyframe& host = keyframe(point.host_id);
+  WindowObservation obs;
+  if (level == 0) {
+    obs.host = point.patch;
+  } else {
+    // The host patch on level L: the level-0 pixel mapped by pyramid_scaling.hpp.
+    const ImageF& image = host.pyramid->level(level);
+    const Eigen::Vector2d pixel(pixelToLevel(point.pixel.x(), level),
+                                pixelToLevel(point.pixel.y(), level));
+    if (!hostPatchFits(image, pixel)) return std::nullopt;
+    obs.host = makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(level), pixel,
+                                                 options_.gradient_weight_c);
+  }
+  obs.target_image = &target.pyramid->level(level);
+  obs.host_exposure = host.exposure;
+  obs.target_exposure = target.exposure;
+  obs.level = level;
+  return obs;
+}
+
+bool SlidingWindow::addResidual(WindowPoint& point, WindowKeyframe& target, int level) {
+  WindowKeyframe& host = keyframeRef(point.host_id);
+  const std::optional<WindowObservation> maybe_obs = observation(point, target, level);
+  if (!maybe_obs) return false;
+  const WindowObservation& obs = *maybe_obs;
+  std::vector<double*> blocks = {host.pose.data(),   target.pose.data(),  &point.inverse_distance,
+                                 host.affine.data(), target.affine.data(), intrinsics_.data()};
+  if (factory_->status(obs, blocks.data()) != PhotometricStatus::kValid) return false;
+  ceres::CostFunction* cost = factory_->makeCost(options_.differentiation, obs);
+  if (options_.reuse_evaluations) cost = new ReusingCostFunction(cost, &evaluation_reuse_);
+  point.residuals[target.id] = problem_->AddResidualBlock(
+      new OutOfBoundsPenalty(cost, options_.outlier_energy_per_pixel * kWindowPatternSize),
+      loss_.get(), blocks);
+  return true;
+}
+
+int SlidingWindow::addPoint(int host_id, const Eigen::Vector2d& pixel, double inverse_distance) {
+  const WindowKeyframe& host = keyframe(host_id);
+  const ImageF& image = host.pyramid->level(0);
+  if (!hostPatchFits(image, pixel)) return -1;
+  auto point = std::make_unique<WindowPoint>(*inverse_distance_slots_.acquire());
+  point->id = next_point_id_;
+  point->host_id = host_id;
+  point->pixel = pixel;
+  point->inverse_distance = inverse_distance;
+  point->patch = makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(0), pixel,
+                                                   options_.gradient_weight_c);
+  problem_->AddParameterBlock(&point->inverse_distance, 1);
+  for (auto& kf : keyframes_)
+    if (kf->id != host_id) addResidual(*point, *kf);
+  if (point->residuals.empty()) {
+    problem_->RemoveParameterBlock(&point->inverse_distance);
+    inverse_distance_slots_.release(&point->inverse_distance);
+    return -1;
+  }
+  ++next_point_id_;
+  const int id = point->id;
+  points_.emplace(id, std::move(point));
+  return id;
+}
+
+}  // namespace omnidso

@@ -1,0 +1,123 @@
+#pragma once
+// Internal to the odometry: the state behind the Odometry facade (odometry.hpp has the
+// pipeline of one frame) and the steps that act on it, one job per file:
+//   odometry.cc                 the facade, set-up of the options, the read accessors;
+//   odometry_initialization.cc  a segment's start (Initializer → the first two keyframes)
+//                               and its end when tracking is lost;
+//   odometry_tracking.cc        the tracking side (steps 2, 4) and its hand-off to mapping:
+//                               the real-time queue and the published tracking reference;
+//   odometry_mapping.cc         the mapping side: epipolar search (step 3), then for a
+//                               keyframe the window, outliers, marginalisation (step 5);
+//   odometry_activation.cc      converged candidates → window points (occupancy grid,
+//                               refinement against the window's keyframes).
+// Tracking and mapping are two threads in the real-time mode: they share only the
+// published tracking reference (under reference_mutex) and the frame records (a deque,
+// so records stay put); everything else belongs to one side.
+
+#include <Eigen/Core>
+#include <deque>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <omnidso/frontend/mapping_worker.hpp>
+#include <omnidso/frontend/odometry.hpp>
+#include <string>
+#include <vector>
+
+namespace omnidso {
+
+struct Odometry::Impl {
+  Camera camera;
+  Mask mask;
+  OdometryOptions options;
+
+  std::unique_ptr<SlidingWindow> window;
+  // What tracking aligns to: set by the mapping side (setTrackingReference), picked up by
+  // the tracking side at its next frame (adoptPublishedReference). In the real-time mode the
+  // two sides are two threads, hence the mutex.
+  struct TrackingReference {
+    std::shared_ptr<const CoarseTracker> tracker;
+    int id = -1;
+    SE3d T_world_ref;
+    double exposure = 1.0;
+    Eigen::Vector2d affine = Eigen::Vector2d::Zero();
+  };
+  std::mutex reference_mutex;
+  TrackingReference published;  // guarded by reference_mutex
+  TrackingReference reference;  // the tracking side's copy
+  std::unique_ptr<Initializer> initializer;
+  std::map<int, std::vector<ImmaturePoint>> immature;  // by host keyframe
+
+  std::deque<FrameRecord> frames;  // a deque: records stay put while the mapper writes timings
+  std::map<int, KeyframeRecord> keyframes;  // every keyframe ever; poses kept current
+  std::deque<OdometryPoint> points;         // marginalised points (a deque: no 2× regrowth)
+  std::vector<std::string> log;
+
+  bool initialized = false;
+  int segment = 0;
+  int first_frame_index = -1;
+  std::shared_ptr<const ImagePyramid> first_pyramid;
+  double first_exposure = 1.0;
+  double last_rmse = std::numeric_limits<double>::infinity();
+  double first_rmse = std::numeric_limits<double>::infinity();  // since the newest keyframe
+  SE3d T_world_last, T_world_prev;
+  Eigen::Vector2d last_affine = Eigen::Vector2d::Zero();
+  int frames_since_keyframe = 0;
+  Eigen::VectorXd last_intrinsics;  // of the last finished segment
+
+  // odometry.cc ------------------------------------------------------------------------
+  Impl(const Camera& c, OdometryOptions o, const Mask& image_mask);
+  void newInitializer();
+  SE3d keyframePose(int id) const;
+  void say(const std::string& message) { log.push_back(message); }
+  void refreshKeyframeRecords();
+  // The window's active points (those not at infinity), in the world.
+  void visitActivePoints(const std::function<void(const OdometryPoint&)>& visit) const;
+  void appendActivePoints(std::deque<OdometryPoint>& out) const;
+
+  // odometry_initialization.cc ---------------------------------------------------------
+  void initialize(FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,
+                  double exposure);
+  void loseTracking(const FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,
+                    double exposure);
+
+  // odometry_tracking.cc ---------------------------------------------------------------
+  void trackFrame(FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,
+                  double exposure);
+  // Mapping side: a new tracking reference from the window's keyframe `id` and its points.
+  void setTrackingReference(int id);
+  // Tracking side: a newer reference from the mapping side replaces the current one.
+  void adoptPublishedReference();
+  // In the real-time mode: waits for the mapping thread (before re-initialising, and before
+  // results are read).
+  void drainMapping();
+
+  // odometry_mapping.cc ----------------------------------------------------------------
+  // What a tracked frame hands to mapping. `record` stays valid: frames is a deque.
+  struct MappingJob {
+    FrameRecord* record = nullptr;
+    std::shared_ptr<const ImagePyramid> pyramid;
+    double exposure = 1.0;
+    SE3d T_world_frame;
+    Eigen::Vector2d affine = Eigen::Vector2d::Zero();
+    bool make_keyframe = false;
+    int reference_id = -1;  // the keyframe tracking aligned the frame to
+  };
+  // Epipolar-curve search of every window keyframe's immature points in the frame (step 3),
+  // then, for a keyframe, the window (step 5).
+  void map(const MappingJob& job);
+  void makeKeyframe(FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,
+                    double exposure, const SE3d& T_world_frame, const Eigen::Vector2d& affine);
+  void selectImmaturePoints(int id, const ImagePyramid& pyramid);
+  void collectMarginalizedPoints();
+
+  // odometry_activation.cc -------------------------------------------------------------
+  void activatePoints(int newest_id, const std::vector<int>& leaving);
+
+  // Declared last: destroyed first, so queued jobs finish while everything they use exists.
+  std::unique_ptr<MappingWorker> worker;
+};
+
+}  // namespace omnidso
