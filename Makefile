@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 DEMO_DIR ?= $(BUILD_DIR)/demo
 
-.PHONY: all deps configure build demo test test-all test-slurm bench clean test-asan test-tsan fuzz
+.PHONY: all deps configure build demo test test-all test-slurm bench clean test-asan test-asan-ci test-tsan fuzz
 
 all: build
 
@@ -66,6 +66,32 @@ test-asan: deps
 	@cd $(ASAN_DIR) && ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
 	  UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure --parallel $(JOBS) --label-exclude 'slow|fuzz'
+
+# The CI form of test-asan (.ci/run; docs/performance.md, "Reliability"): the same sanitizers
+# on the suites of every reader and the bad-input corpus (core: datasets, trajectories,
+# pcalib/vignette, images; cameras: calibration files; tools: --config, the real executable on
+# the corpus, the fuzzing findings) and a short odometry run; the residuals, backend and
+# frontend suites stay in test-asan (their test files are the costly part of its build).
+# ctest's `<suite>_NOT_BUILT` placeholders stand for the suites left out.
+ASAN_CI_DIR ?= build-asan-ci
+ASAN_CI_SUITES = omnidso_core_tests omnidso_cameras_tests omnidso_tools_tests
+ASAN_CI_FRAMES ?= 40
+ASAN_RUNTIME_OPTIONS = ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+  UBSAN_OPTIONS=print_stacktrace=1
+test-asan-ci: deps
+	@cmake -S . -B $(ASAN_CI_DIR) $(SANITIZER_CMAKE_FLAGS) \
+	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer $(ASAN_EIGEN_ABI)" >/dev/null
+	@cmake --build $(ASAN_CI_DIR) --parallel $(JOBS) --target omnidso $(ASAN_CI_SUITES)
+	@cd $(ASAN_CI_DIR) && $(ASAN_RUNTIME_OPTIONS) \
+	  ctest --output-on-failure --parallel $(JOBS) --label-exclude 'slow|fuzz' --exclude-regex '_NOT_BUILT$$'
+	@rm -rf $(ASAN_CI_DIR)/odometry-check && mkdir -p $(ASAN_CI_DIR)/odometry-check
+	@$(ASAN_RUNTIME_OPTIONS) $(ASAN_CI_DIR)/tools/omnidso synth --frames $(ASAN_CI_FRAMES) --samples 1 \
+	  --out $(ASAN_CI_DIR)/odometry-check/sequence --quiet
+	@$(ASAN_RUNTIME_OPTIONS) $(ASAN_CI_DIR)/tools/omnidso run $(ASAN_CI_DIR)/odometry-check/sequence \
+	  --out $(ASAN_CI_DIR)/odometry-check/run --quiet
+	@$(ASAN_RUNTIME_OPTIONS) $(ASAN_CI_DIR)/tools/omnidso eval --format tum \
+	  --gt $(ASAN_CI_DIR)/odometry-check/sequence/groundtruth.txt \
+	  --est $(ASAN_CI_DIR)/odometry-check/run/frames.txt
 
 # ThreadSanitizer on the threaded tests; tools/tsan.supp silences uninstrumented libraries only.
 test-tsan: deps
