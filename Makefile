@@ -75,7 +75,7 @@ test-asan: deps
 # on the suites of every reader and the bad-input corpus (core: datasets, trajectories,
 # pcalib/vignette, images; cameras: calibration files; tools: --config, the real executable on
 # the corpus, the fuzzing findings) and a short odometry run; the residuals, backend and
-# frontend suites stay in test-asan (their test files are the costly part of its build).
+# frontend suites stay in test-asan (left out to keep the build small).
 # ctest's `<suite>_NOT_BUILT` placeholders stand for the suites left out.
 ASAN_CI_DIR ?= build-asan-ci
 ASAN_CI_SUITES = omnidso_core_tests omnidso_cameras_tests omnidso_tools_tests
