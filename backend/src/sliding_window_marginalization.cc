@@ -82,7 +82,7 @@ void SlidingWindow::marginalizeKeyframe(int id) {
     }
     erasePoint(pid);
   }
-  for (int pid : dropped_ids) removePoint(pid, false);
+  for (int pid : dropped_ids) dropPoint(pid);
 
   // 2. Residuals of the remaining points into this keyframe are dropped (sparsity).
   std::vector<int> emptied;
@@ -93,7 +93,7 @@ void SlidingWindow::marginalizeKeyframe(int id) {
     point->residuals.erase(it);
     if (point->residuals.empty()) emptied.push_back(pid);
   }
-  for (int pid : emptied) removePoint(pid, false);
+  for (int pid : emptied) dropPoint(pid);
 
   // 3. The keyframe's own blocks.
   if (marginalizer_.marginalize(*problem_, {kf.pose.data(), kf.affine.data()})) has_prior_ = true;

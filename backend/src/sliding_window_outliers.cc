@@ -25,7 +25,7 @@ int SlidingWindow::removeResiduals(double max_energy, int min_residuals_per_poin
     if (static_cast<int>(point->residuals.size()) < min_residuals_per_point)
       weak_points.push_back(pid);
   }
-  for (int pid : weak_points) removePoint(pid, false);
+  for (int pid : weak_points) dropPoint(pid);
   all_residuals_valid_ = true;  // every invalid one had infinite energy
   return removed;
 }
@@ -39,17 +39,10 @@ int SlidingWindow::removeOutliers() {
                          options_.min_residuals_per_point);
 }
 
-void SlidingWindow::removePoint(int id, bool marginalize) {
-  WindowPoint& point = pointRef(id);
-  double* block = &point.inverse_distance;
-  if (marginalize && !point.residuals.empty()) {
-    recordMarginalized(point);
-    if (marginalizer_.marginalize(*problem_, {block})) has_prior_ = true;
-    if (id == scale_anchor_point_id_) scale_fixed_by_prior_ = true;
-  } else {
-    problem_->RemoveParameterBlock(block);
-    marginalizer_.forget(block);
-  }
+void SlidingWindow::dropPoint(int id) {
+  double* block = &pointRef(id).inverse_distance;
+  problem_->RemoveParameterBlock(block);
+  marginalizer_.forget(block);
   if (id == scale_anchor_point_id_) scale_anchor_point_id_ = -1;
   erasePoint(id);
 }

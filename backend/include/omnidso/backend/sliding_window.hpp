@@ -220,7 +220,9 @@ class SlidingWindow {
   // min_residuals_per_point. Returns the number of residuals removed.
   int removeResiduals(double max_energy, int min_residuals_per_point);
   WindowSolveSummary solve();
-  void removePoint(int id, bool marginalize);
+  // Drops a point and its residuals without marginalising it (points that carry information
+  // are marginalised with their keyframe in marginalizeKeyframe).
+  void dropPoint(int id);
   // Forgets a point whose block has left the problem, and frees its slot.
   void erasePoint(int id);
   int dropInvalidResiduals();
