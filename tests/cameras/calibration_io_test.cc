@@ -1,5 +1,6 @@
 // Calibration files (calibration_io.hpp): round trips and rejection of bad input.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -36,11 +37,18 @@ std::vector<Camera> everyModel() {
 
 class CalibrationIoTest : public ::testing::Test {
  protected:
+  // One directory per process: ctest runs the tests in parallel processes.
+  static std::filesystem::path dir() {
+    return std::filesystem::path(::testing::TempDir()) /
+           ("omnidso_calibration_io_test_" + std::to_string(::getpid()));
+  }
+  void TearDown() override {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir(), ignored);
+  }
   std::string path(const std::string& name) const {
-    const std::filesystem::path dir =
-        std::filesystem::path(::testing::TempDir()) / "omnidso_calibration_io_test";
-    std::filesystem::create_directories(dir);
-    return (dir / name).string();
+    std::filesystem::create_directories(dir());
+    return (dir() / name).string();
   }
   std::string write(const std::string& name, const std::string& content) const {
     const std::string p = path(name);

@@ -1,6 +1,7 @@
 // Trajectory file I/O: bit-exact TUM round trip, the three formats, and every malformed
 // case rejected with an Error naming file and line.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -19,7 +20,8 @@ namespace {
 std::string writeTempFile(const std::string& suffix, const std::string& content) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                     ("omnidso_" + std::string(info->name()) + suffix);
+                                     ("omnidso_" + std::string(info->name()) + "_" +
+                                      std::to_string(::getpid()) + suffix);
   std::ofstream(path) << content;
   return path.string();
 }

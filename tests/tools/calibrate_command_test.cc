@@ -4,6 +4,7 @@
 // and the same refusals through the executable (status 2, one line).
 #include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -75,8 +76,9 @@ class CalibrateCommandTest : public ::testing::Test {
  protected:
   void SetUp() override {
     root_ = fs::temp_directory_path() /
-            ("omnidso_calibrate_" + std::string(::testing::UnitTest::GetInstance()
-                                                    ->current_test_info()->name()));
+            ("omnidso_calibrate_" +
+             std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+             "_" + std::to_string(::getpid()));
     fs::remove_all(root_);
     fs::create_directories(root_ / "images");
   }
