@@ -65,8 +65,11 @@ void Odometry::Impl::visitActivePoints(
       visit({window->pointInWorld(*point).cast<float>(), point->hostIntensity(), segment});
 }
 
-void Odometry::Impl::appendActivePoints(std::deque<OdometryPoint>& out) const {
-  visitActivePoints([&](const OdometryPoint& p) { out.push_back(p); });
+void Odometry::Impl::retirePoint(const OdometryPoint& point) {
+  if (retired_point_sink)
+    retired_point_sink(point);
+  else
+    points.push_back(point);
 }
 
 Odometry::Odometry(const Camera& camera, OdometryOptions options, const Mask& image_mask)
@@ -148,6 +151,10 @@ size_t Odometry::numPoints() const {
   if (impl_->window)
     for (const auto& [pid, point] : impl_->window->points()) n += point->inverse_distance > 0.0;
   return n;
+}
+
+void Odometry::setRetiredPointSink(std::function<void(const OdometryPoint&)> sink) {
+  impl_->retired_point_sink = std::move(sink);
 }
 
 bool Odometry::initialized() const { return impl_->initialized; }

@@ -53,6 +53,7 @@ struct Odometry::Impl {
   std::deque<FrameRecord> frames;  // a deque: records stay put while the mapper writes timings
   std::map<int, KeyframeRecord> keyframes;  // every keyframe ever; poses kept current
   std::deque<OdometryPoint> points;         // marginalised points (a deque: no 2× regrowth)
+  std::function<void(const OdometryPoint&)> retired_point_sink;  // replaces `points` if set
   std::vector<std::string> log;
 
   bool initialized = false;
@@ -75,7 +76,7 @@ struct Odometry::Impl {
   void refreshKeyframeRecords();
   // The window's active points (those not at infinity), in the world.
   void visitActivePoints(const std::function<void(const OdometryPoint&)>& visit) const;
-  void appendActivePoints(std::deque<OdometryPoint>& out) const;
+  void retirePoint(const OdometryPoint& point);  // to the sink, or kept in `points`
 
   // odometry_initialization.cc ---------------------------------------------------------
   void initialize(FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,

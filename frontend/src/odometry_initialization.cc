@@ -78,7 +78,7 @@ void Odometry::Impl::loseTracking(const FrameRecord& record,
   say("segment " + std::to_string(segment) + ": tracking lost at frame " +
       std::to_string(record.index) + "; re-initialising");
   refreshKeyframeRecords();
-  appendActivePoints(points);
+  visitActivePoints([this](const OdometryPoint& p) { retirePoint(p); });
   last_intrinsics = window->intrinsics();
   window.reset();
   {

@@ -84,7 +84,7 @@ void Odometry::Impl::selectImmaturePoints(int id, const ImagePyramid& pyramid) {
 
 void Odometry::Impl::collectMarginalizedPoints() {
   for (const MarginalizedPoint& m : window->takeMarginalizedPoints())
-    points.push_back({m.position_world.cast<float>(), m.intensity, segment});
+    retirePoint({m.position_world.cast<float>(), m.intensity, segment});
 }
 
 }  // namespace omnidso

@@ -130,6 +130,39 @@ TEST(OdometryEndToEnd, Room185WithThreeKeyframesKeepsTracking) {
   EXPECT_LT(r.ate_rmse_m, 0.01 * r.path_length_m);
 }
 
+// Long runs hand each point that leaves the window to a sink instead of keeping the map in
+// memory (`omnidso run` streams it into points.ply). The sink must receive exactly the points
+// the odometry would otherwise have kept, in the same order, and the odometry must then hold
+// the active points only. N_f = 3 on 40 frames of room185, so that keyframes (and their
+// points) are marginalised early.
+TEST(OdometryEndToEnd, RetiredPointSinkReceivesExactlyTheRetiredPoints) {
+  test::TempDir dir;
+  synth::SyntheticSequenceConfig config = synth::presetConfig("room185");
+  config.frames = 40;
+  synth::SyntheticSequence sequence(config);
+  synth::writeSyntheticDataset(sequence, dir.file("room185"));
+  const DatasetIndex index = openDataset(dir.file("room185"));
+  cli::DatasetRunOptions options;
+  options.odometry.window.max_keyframes = 3;
+
+  const cli::DatasetRun kept = cli::runOdometryOnDataset(index, options);
+  const std::vector<OdometryPoint> all = kept.odometry->points();
+
+  std::vector<OdometryPoint> streamed;
+  options.retired_point_sink = [&streamed](const OdometryPoint& p) { streamed.push_back(p); };
+  const cli::DatasetRun sunk = cli::runOdometryOnDataset(index, options);
+  const size_t num_retired = streamed.size();
+  EXPECT_GT(num_retired, 0u) << "no keyframe was marginalised; the test checks nothing";
+  EXPECT_EQ(sunk.odometry->numPoints(), all.size() - num_retired);
+  sunk.odometry->forEachPoint([&streamed](const OdometryPoint& p) { streamed.push_back(p); });
+  ASSERT_EQ(streamed.size(), all.size());
+  for (size_t i = 0; i < all.size(); ++i) {
+    EXPECT_EQ(streamed[i].position_world, all[i].position_world) << "point " << i;
+    EXPECT_EQ(streamed[i].intensity, all[i].intensity) << "point " << i;
+    EXPECT_EQ(streamed[i].segment, all[i].segment) << "point " << i;
+  }
+}
+
 // A real recorded motion (TUM VI room1's motion capture: hand-held, rotation-heavy, standing
 // nearly still for the first six seconds) through another calibration (Double Sphere, 195°,
 // 400×400) and another room: the odometry waits for parallax, then keeps the keyframe ATE

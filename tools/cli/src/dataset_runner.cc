@@ -97,6 +97,7 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
   if (photometric.hasVignette()) photometric.checkImageSize(source.width(), source.height());
 
   DatasetRun run{source, camera, std::make_unique<Odometry>(camera, options.odometry, image_mask)};
+  if (options.retired_point_sink) run.odometry->setRetiredPointSink(options.retired_point_sink);
   const size_t total = options.max_frames > 0 ? std::min(index.frames.size(), options.max_frames)
                                               : index.frames.size();
   Stopwatch wall;

@@ -89,6 +89,8 @@ void runOdometry(const RunArguments& args) {
   for (const std::string& s : args.settings) applyOdometrySettingAssignment(o, s);
   refuseToOverwrite(args.out, args.force);  // after every option has been checked
   StagedDirectory out(args.out);              // --out changes only when the run completes
+  PlyPointWriter points(out.path() + "/points.ply");  // the map goes to disk as it is made
+  options.retired_point_sink = [&points](const OdometryPoint& p) { points.add(p); };
   if (!args.quiet && ::isatty(STDERR_FILENO))
     options.progress = [](size_t done, size_t total, const Odometry& odometry) {
       if (done % 10 == 0 || done == total) printProgress(done, total, odometry);
@@ -111,7 +113,7 @@ void runOdometry(const RunArguments& args) {
   description.wall_s = run.wall_s;
   description.settings = odometrySettingsJson(o);
   const nlohmann::json summary =
-      writeRunOutputs(out.path(), index, ground_truth, odometry, description);
+      writeRunOutputs(out.path(), index, ground_truth, odometry, description, points);
   out.commit();
   if (args.json) {
     std::cout << summary.dump(2) << "\n";

@@ -64,7 +64,8 @@ void writeTum(const std::string& path, const Trajectory& t) { writeTrajectoryTum
 
 nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& index,
                                const std::optional<Trajectory>& ground_truth,
-                               const Odometry& odometry, const RunDescription& d) {
+                               const Odometry& odometry, const RunDescription& d,
+                               PlyPointWriter& points) {
   // Trajectories, per segment and all together.
   std::map<int, Trajectory> frames_by_segment, keyframes_by_segment;
   Trajectory all_frames, all_keyframes;
@@ -82,18 +83,7 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
   writeTum(out_dir + "/frames.txt", all_frames);
   writeTum(out_dir + "/keyframes.txt", all_keyframes);
 
-  const size_t num_points = odometry.numPoints();
-  {
-    std::ofstream ply(out_dir + "/points.ply");
-    if (!ply) throw Error(out_dir + "/points.ply: cannot write");
-    ply << "ply\nformat ascii 1.0\nelement vertex " << num_points
-        << "\nproperty float x\nproperty float y\nproperty float z\n"
-           "property float intensity\nproperty int segment\nend_header\n";
-    odometry.forEachPoint([&](const OdometryPoint& p) {  // no copy of a long run's map
-      ply << fmt::format("{:.6f} {:.6f} {:.6f} {:.2f} {}\n", p.position_world.x(),
-                         p.position_world.y(), p.position_world.z(), p.intensity, p.segment);
-    });
-  }
+  points.finish(odometry);  // the retired points are on disk already; now the active ones
   // Tracking and search: every tracked frame after the first of its segment; mapping: every
   // keyframe that ran the window.
   std::vector<double> tracking_ms, search_ms, mapping_ms, window_ms, marginalization_ms,
@@ -138,7 +128,7 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
   s["counts"] = {{"frames", d.frames_processed},
                  {"tracked_frames", all_frames.size()},
                  {"keyframes", all_keyframes.size()},
-                 {"points", num_points},
+                 {"points", points.count()},
                  {"segments", frames_by_segment.size()}};
   s["timing"] = {{"tracking_ms_per_frame", toJson(stats(tracking_ms))},
                  {"search_ms_per_frame", toJson(stats(search_ms))},

@@ -123,6 +123,13 @@ class Odometry {
   // The same points one by one, without copying the map (writers of long runs).
   void forEachPoint(const std::function<void(const OdometryPoint&)>& visit) const;
   size_t numPoints() const;
+  // Long runs: hand every point to `sink` when it leaves the window (marginalised with its
+  // host, or kept at a tracking loss) instead of storing it, so that memory stays bounded by
+  // the window rather than growing with the map (20 bytes a point: 15 MB for 12 000 frames).
+  // Points handed over are no longer returned by points(), forEachPoint() or numPoints(),
+  // which then hold the active points only. Set it before the first frame; in the real-time
+  // mode it is called from the mapping thread.
+  void setRetiredPointSink(std::function<void(const OdometryPoint&)> sink);
   bool initialized() const;
   // The intrinsics as currently estimated (the calibration's while nothing is optimised).
   Eigen::VectorXd intrinsics() const;

@@ -28,6 +28,8 @@ struct DatasetRunOptions {
   double playback_speed = 1.0;
   OdometryOptions odometry;
   std::function<void(size_t done, size_t total, const Odometry&)> progress;
+  // Optional: receives every point that leaves the window (Odometry::setRetiredPointSink).
+  std::function<void(const OdometryPoint&)> retired_point_sink;
 };
 
 struct DatasetRun {

@@ -12,6 +12,7 @@
 // own, and the headline ATE is that of the segment with the most keyframes.
 
 #include <nlohmann/json.hpp>
+#include <omnidso/cli/ply_point_writer.hpp>
 #include <omnidso/core/dataset.hpp>
 #include <omnidso/core/trajectory.hpp>
 #include <optional>
@@ -39,9 +40,12 @@ struct RunDescription {
 
 // ground_truth: the camera poses (synth::cameraGroundTruth), read by the caller before the
 // run so that a bad file stops it early; nullopt when the dataset has none.
+// points: out_dir/points.ply, holding the points that left the window during the run (the
+// odometry's retired-point sink); finished here with the active ones.
 nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& index,
                                const std::optional<Trajectory>& ground_truth,
-                               const Odometry& odometry, const RunDescription& description);
+                               const Odometry& odometry, const RunDescription& description,
+                               PlyPointWriter& points);
 
 // The stretch of recorded time the first `frames_processed` frames of the dataset cover: the
 // span of their timestamps plus one frame period (each frame stands for one period; a single
