@@ -38,6 +38,13 @@ struct RenderedRun {
   double ate_rmse_m = 0.0, path_length_m = 0.0;
 };
 
+// Renders `config` into the dataset directory `path` and opens it.
+DatasetIndex renderDataset(const synth::SyntheticSequenceConfig& config, const std::string& path) {
+  synth::SyntheticSequence sequence(config);
+  synth::writeSyntheticDataset(sequence, path);
+  return openDataset(path);
+}
+
 // Renders `config` into dir/name, runs the odometry with the default options (as
 // `omnidso run` does), and measures the keyframe ATE of the first segment after Sim(3)
 // alignment.
@@ -46,9 +53,7 @@ RenderedRun renderAndRun(const synth::SyntheticSequenceConfig& config, const tes
                          const cli::DatasetRunOptions& run_options = cli::DatasetRunOptions{}) {
   RenderedRun out;
   out.dataset = dir.file(name);
-  synth::SyntheticSequence sequence(config);
-  synth::writeSyntheticDataset(sequence, out.dataset);
-  const DatasetIndex index = openDataset(out.dataset);
+  const DatasetIndex index = renderDataset(config, out.dataset);
   const cli::DatasetRun run = cli::runOdometryOnDataset(index, run_options);
   const Odometry& odometry = *run.odometry;
   EXPECT_TRUE(odometry.initialized()) << odometry.initializationStatus();
@@ -142,9 +147,7 @@ TEST(OdometryEndToEnd, RetiredPointSinkReceivesExactlyTheRetiredPoints) {
   test::TempDir dir;
   synth::SyntheticSequenceConfig config = synth::presetConfig("room185");
   config.frames = 40;
-  synth::SyntheticSequence sequence(config);
-  synth::writeSyntheticDataset(sequence, dir.file("room185"));
-  const DatasetIndex index = openDataset(dir.file("room185"));
+  const DatasetIndex index = renderDataset(config, dir.file("room185"));
   cli::DatasetRunOptions options;
   options.odometry.window.max_keyframes = 3;
 
