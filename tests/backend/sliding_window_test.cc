@@ -323,6 +323,13 @@ INSTANTIATE_TEST_SUITE_P(SignPatterns, SlidingWindowIntrinsics,
                          ::testing::Values(std::array<double, 5>{-0.01, 0.01, -0.01, 0.01, -0.01},
                                            std::array<double, 5>{0.01, 0.01, 0.01, 0.01, 0.01}));
 
+// The largest error of fx, fy, cx, cy against the truth, in pixels.
+double maxIntrinsicsErrorPx(const SlidingWindow& window, const Eigen::VectorXd& truth) {
+  double worst = 0.0;
+  for (int i = 0; i < 4; ++i) worst = std::max(worst, std::abs(window.intrinsics()[i] - truth[i]));
+  return worst;
+}
+
 // The default calibration prior (WindowOptions::intrinsics_prior_weight, DSO's) on the data
 // where the odometry needed it: a 90° pinhole whose keyframes turn about one axis, poses and
 // points perturbed as above, intrinsics starting exact and optimised jointly. Free, they
@@ -330,12 +337,6 @@ INSTANTIATE_TEST_SUITE_P(SignPatterns, SlidingWindowIntrinsics,
 // keyframe (see lookAround) — and end more than a pixel from the calibration; under the prior
 // they stay within the bound (0.5 % in f, 1 px in c), as the calibration is exact,
 // and the poses are recovered as well as with the intrinsics fixed.
-double maxIntrinsicsErrorPx(const SlidingWindow& window, const Eigen::VectorXd& truth) {
-  double worst = 0.0;
-  for (int i = 0; i < 4; ++i) worst = std::max(worst, std::abs(window.intrinsics()[i] - truth[i]));
-  return worst;
-}
-
 TEST(SlidingWindowIntrinsicsPrior, DefaultPriorHoldsAnExactCalibrationUnderOneAxisMotion) {
   const Camera camera = synth::syntheticCamera("pinhole", 90.0, 320, 320);
   WindowOptions with_prior = recoveryOptions(5, true);
