@@ -77,7 +77,7 @@ void SlidingWindow::marginalizeKeyframe(int id) {
     has_prior_ = true;
   for (int pid : marginalized_ids) {
     if (pid == scale_anchor_point_id_) {
-      scale_fixed_by_prior_ = true;
+      scale_fixed_by_prior_ = !options_.keep_scale_anchor;
       scale_anchor_point_id_ = -1;
     }
     erasePoint(pid);

@@ -1,4 +1,5 @@
-// SlidingWindow's solving (sliding_window.hpp): the scale gauge fixed before the first solve,
+// SlidingWindow's solving (sliding_window.hpp): the scale gauge held by a constant inverse
+// distance (chosen before the first solve, and again whenever that point has left),
 // invalid residuals dropped before each one, and Ceres's Levenberg–Marquardt with the points
 // eliminated first by the Schur complement, in an elimination order that does not depend on
 // memory addresses (bit-for-bit results); optimizeCoarseToFine solves the same problem on
@@ -12,10 +13,12 @@
 
 namespace omnidso {
 
-void SlidingWindow::fixGaugeBeforeFirstSolve() {
+void SlidingWindow::holdScaleAnchor() {
   if (scale_anchor_point_id_ >= 0 || scale_fixed_by_prior_ || points_.empty()) return;
   // The point with the most residuals, preferring the pose anchor's own points; ties go to
-  // the lowest id, so the choice is deterministic.
+  // the lowest id, so the choice is deterministic. A later anchor takes its value from the
+  // window as it is: it keeps the scale the window has, and takes the similarity direction
+  // out of the solves that follow.
   const WindowPoint* best = nullptr;
   for (const auto& [id, point] : points_) {
     if (!best) {
@@ -40,7 +43,7 @@ WindowSolveSummary SlidingWindow::optimize() {
   // Skipped when nothing has moved since the last pass (the odometry's removeOutliers after
   // the previous solve; new residuals are only added where valid).
   if (!all_residuals_valid_) dropInvalidResiduals();
-  fixGaugeBeforeFirstSolve();
+  holdScaleAnchor();
   return solve();
 }
 
@@ -55,7 +58,7 @@ void SlidingWindow::rebuildResiduals(int level,
 
 WindowSolveSummary SlidingWindow::optimizeCoarseToFine(int num_levels) {
   dropInvalidResiduals();
-  fixGaugeBeforeFirstSolve();
+  holdScaleAnchor();
   std::map<int, std::vector<int>> targets;
   for (const auto& [pid, point] : points_)
     for (const auto& [target, id] : point->residuals) targets[pid].push_back(target);

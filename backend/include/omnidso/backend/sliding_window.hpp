@@ -16,9 +16,19 @@
 //  - pose: the first keyframe's pose is held constant while it is in the window;
 //  - brightness: its affine block is held constant too (e^{a_j − a_i} sees only differences);
 //  - scale: one inverse distance — the anchor keyframe's point with the most residuals when
-//    the window is first optimised — is held constant.
+//    the window is first optimised — is held constant; when that point leaves the window
+//    (marginalised or dropped), the next solve holds another one (WindowOptions::
+//    keep_scale_anchor).
 // Marginalisation treats constant blocks as known, so the priors built while the anchors are
-// constant carry the gauge: once the anchor keyframe has left, "the prior fixes it".
+// constant carry the gauge: once the anchor keyframe has left, the prior fixes the pose and
+// brightness gauge. It does not hold the scale well enough: the prior's Jacobian stays at its
+// linearisation point while the photometric residuals are relinearised at every iteration,
+// so along the similarity direction — where the photometric energy is flat — the prior's
+// linear residual has a gradient of its own, and every iteration moves the scale a little
+// (DSO projects its steps off the gauge null spaces from the third iteration on). Measured on the independent renders
+// (docs/performance.md, "The scale gauge"): with the scale left to the prior, D3's full
+// image read 1.7 % of the path at 2 iterations per keyframe and 5.3 % at 6; with the anchor
+// re-chosen, 0.64 % and 0.49 %.
 //
 // Out of bounds: every residual is wrapped in OutOfBoundsPenalty, so that a step moving some
 // pattern out of the image costs the outlier energy instead of making Ceres reject the step;
@@ -82,6 +92,10 @@ struct WindowOptions {
   // residuals are copied from the last candidate, its Jacobians zero; evaluation_reuse.hpp):
   // the same solution bit for bit, one Jacobian evaluation fewer per solve.
   bool reuse_evaluations = true;
+  // Hold the scale with a constant inverse distance in every solve: when the anchor point
+  // leaves, the next solve picks another (see the header comment, "Gauge"). false leaves the
+  // scale to the prior once the first anchor has left (the behaviour before; an ablation).
+  bool keep_scale_anchor = true;
   int num_threads = 1;
   // Reduced camera systems up to this size use DENSE_SCHUR, larger ones SPARSE_SCHUR.
   int dense_schur_max_size = 400;
@@ -200,6 +214,9 @@ class SlidingWindow {
   // World position of an active point (host pose · bearing / inverse distance).
   Eigen::Vector3d pointInWorld(const WindowPoint& point) const;
   bool hasPrior() const { return has_prior_; }
+  // The point whose inverse distance holds the scale gauge in the solves, or -1 when none
+  // does (before the first solve; once it left with keep_scale_anchor off).
+  int scaleAnchorPointId() const { return scale_anchor_point_id_; }
   // Points marginalised since the last call (for the map the odometry writes out).
   std::vector<MarginalizedPoint> takeMarginalizedPoints();
 
@@ -226,7 +243,7 @@ class SlidingWindow {
   // Forgets a point whose block has left the problem, and frees its slot.
   void erasePoint(int id);
   int dropInvalidResiduals();
-  void fixGaugeBeforeFirstSolve();
+  void holdScaleAnchor();
   void recordMarginalized(const WindowPoint& point);
 
   WindowOptions options_;
