@@ -25,10 +25,10 @@
 // linearisation point while the photometric residuals are relinearised at every iteration,
 // so along the similarity direction — where the photometric energy is flat — the prior's
 // linear residual has a gradient of its own, and every iteration moves the scale a little
-// (DSO projects its steps off the gauge null spaces from the third iteration on). Measured on the independent renders
-// (docs/performance.md, "The scale gauge"): with the scale left to the prior, D3's full
-// image read 1.7 % of the path at 2 iterations per keyframe and 5.3 % at 6; with the anchor
-// re-chosen, 0.64 % and 0.49 %.
+// (DSO projects its steps off the gauge null spaces from its third iteration on). Measured
+// on the independent renders (docs/performance.md, "The scale gauge"): with the scale left
+// to the prior, D3's full image (seed 0) read 1.7 % of the path at 2 iterations per keyframe
+// and 5.3 % at 6; with the anchor re-chosen, 0.64 % and 0.49 %.
 //
 // Out of bounds: every residual is wrapped in OutOfBoundsPenalty, so that a step moving some
 // pattern out of the image costs the outlier energy instead of making Ceres reject the step;
