@@ -317,7 +317,8 @@ TEST(SlidingWindowGauge, ScaleAnchorIsReplacedWhenItsPointLeaves) {
     for (const auto& [id, point] : window->points()) before[id] = point->inverse_distance;
     window->optimize();
     int unchanged = 0;
-    for (const auto& [id, point] : window->points()) unchanged += point->inverse_distance == before.at(id);
+    for (const auto& [id, point] : window->points())
+      unchanged += point->inverse_distance == before.at(id);
     const int second = window->scaleAnchorPointId();
     if (keep) {
       ASSERT_GE(second, 0);

@@ -94,7 +94,8 @@ struct WindowOptions {
   bool reuse_evaluations = true;
   // Hold the scale with a constant inverse distance in every solve: when the anchor point
   // leaves, the next solve picks another (see the header comment, "Gauge"). false leaves the
-  // scale to the prior once the first anchor has left (the behaviour before; an ablation).
+  // scale to the prior once an anchor has been marginalised (the behaviour before; an
+  // ablation; an anchor dropped as an outlier is replaced either way).
   bool keep_scale_anchor = true;
   int num_threads = 1;
   // Reduced camera systems up to this size use DENSE_SCHUR, larger ones SPARSE_SCHUR.
@@ -215,7 +216,7 @@ class SlidingWindow {
   Eigen::Vector3d pointInWorld(const WindowPoint& point) const;
   bool hasPrior() const { return has_prior_; }
   // The point whose inverse distance holds the scale gauge in the solves, or -1 when none
-  // does (before the first solve; once it left with keep_scale_anchor off).
+  // does (before the first solve; once it was marginalised with keep_scale_anchor off).
   int scaleAnchorPointId() const { return scale_anchor_point_id_; }
   // Points marginalised since the last call (for the map the odometry writes out).
   std::vector<MarginalizedPoint> takeMarginalizedPoints();
