@@ -49,6 +49,7 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
   for (const auto& kf : keyframes_) {
     if (kf->id == host_id) continue;
     obs.target_image = &kf->pyramid->level(0);
+    obs.target_content = kf->pyramid->content(0);
     obs.target_exposure = kf->exposure;
     Target t;
     t.cost.reset(factory_->makeCost(DifferentiationMode::kAnalytic, obs));

@@ -59,6 +59,7 @@ std::optional<WindowObservation> SlidingWindow::observation(const WindowPoint& p
                                                  options_.gradient_weight_c);
   }
   obs.target_image = &target.pyramid->level(level);
+  obs.target_content = target.pyramid->content(level);
   obs.host_exposure = host.exposure;
   obs.target_exposure = target.exposure;
   obs.level = level;

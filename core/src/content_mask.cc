@@ -89,4 +89,20 @@ Mask erodeContent(const Mask& content, int radius) {
   return out;
 }
 
+std::vector<Mask> contentPyramid(const Mask& level0, int num_levels) {
+  if (num_levels < 1) throw Error("contentPyramid: number of levels must be at least 1");
+  std::vector<Mask> levels = {level0};
+  levels.reserve(static_cast<size_t>(num_levels));
+  for (int l = 1; l < num_levels; ++l) {
+    const Mask& fine = levels.back();
+    Mask coarse(fine.width() / 2, fine.height() / 2);
+    for (int v = 0; v < coarse.height(); ++v)
+      for (int u = 0; u < coarse.width(); ++u)
+        coarse(u, v) = fine(2 * u, 2 * v) && fine(2 * u + 1, 2 * v) && fine(2 * u, 2 * v + 1) &&
+                       fine(2 * u + 1, 2 * v + 1);
+    levels.push_back(std::move(coarse));
+  }
+  return levels;
+}
+
 }  // namespace omnidso

@@ -7,7 +7,9 @@
 
 namespace omnidso {
 
-ImagePyramid::ImagePyramid(ImageF level0, int num_levels) {
+ImagePyramid::ImagePyramid(ImageF level0, int num_levels,
+                           std::shared_ptr<const std::vector<Mask>> content)
+    : content_(std::move(content)) {
   if (num_levels < 1) {
     throw Error("ImagePyramid: number of levels must be at least 1, got " +
                 std::to_string(num_levels));
@@ -31,6 +33,25 @@ ImagePyramid::ImagePyramid(ImageF level0, int num_levels) {
   levels_.push_back(std::move(level0));
   for (int l = 1; l < num_levels; ++l) levels_.push_back(downsample2x2(levels_.back()));
   for (const ImageF& level : levels_) gradients_.push_back(computeGradients(level));
+  if (content_) {
+    if (static_cast<int>(content_->size()) < num_levels)
+      throw Error("ImagePyramid: " + std::to_string(content_->size()) +
+                  " content masks for " + std::to_string(num_levels) + " levels");
+    for (int l = 0; l < num_levels; ++l)
+      if ((*content_)[l].width() != levels_[l].width() ||
+          (*content_)[l].height() != levels_[l].height())
+        throw Error("ImagePyramid: the content mask of level " + std::to_string(l) + " is " +
+                    std::to_string((*content_)[l].width()) + "x" +
+                    std::to_string((*content_)[l].height()) + ", the level " +
+                    std::to_string(levels_[l].width()) + "x" +
+                    std::to_string(levels_[l].height()));
+  }
+}
+
+const Mask* ImagePyramid::content(int index) const {
+  if (!content_) return nullptr;
+  level(index);  // range check
+  return &(*content_)[index];
 }
 
 const ImageF& ImagePyramid::level(int index) const {

@@ -41,6 +41,7 @@ struct CoarseTracker::Impl {
     costs.reserve(observations[level].size());
     for (TrackingObservation<1> obs : observations[level]) {
       obs.target_image = &frame.level(level);
+      obs.target_content = frame.content(level);
       obs.target_exposure = frame_exposure;
       costs.emplace_back(std::make_unique<OutOfBoundsPenalty>(
           makeTrackingCost<M, 1>(DifferentiationMode::kAnalytic, level_model, obs),

@@ -93,13 +93,13 @@ struct PatternEnergy {
 
 PatternEnergy patternEnergy(const ImmaturePoint& point, const ImageF& target,
                             const Eigen::Vector2d& u, const Eigen::Matrix2d& pattern_map,
-                            const AffineTransfer& affine, double huber) {
+                            const AffineTransfer& affine, double huber, const Mask* content) {
   PatternEnergy e;
   for (int i = 0; i < kImmaturePatternSize; ++i) {
     const Eigen::Vector2d o(Pattern::kOffsets[i].du, Pattern::kOffsets[i].dv);
     const Eigen::Vector2d q = u + pattern_map * o;
     double value;
-    if (!sampleBilinear(target, q.x(), q.y(), &value)) return e;
+    if (!sampleBilinear(target, q.x(), q.y(), &value, content)) return e;
     e.energy += huberEnergy(value - (affine.a * point.host_intensity[i] + affine.b), huber);
   }
   e.valid = true;
@@ -109,7 +109,8 @@ PatternEnergy patternEnergy(const ImmaturePoint& point, const ImageF& target,
 template <typename Model>
 TraceResult trace(const Model& model, ImmaturePoint& point, const SE3d& T_target_host,
                   const ImageF& target, const ImageGradients& gradients,
-                  const AffineTransfer& affine, const EpipolarSearchOptions& options) {
+                  const AffineTransfer& affine, const EpipolarSearchOptions& options,
+                  const Mask* content) {
   TraceResult result;
   const EpipolarCurve<Model> curve(model, point, T_target_host);
   auto finish = [&](TraceStatus status) {
@@ -138,7 +139,7 @@ TraceResult trace(const Model& model, ImmaturePoint& point, const SE3d& T_target
     const double speed = sample.du_ds.norm();  // pixels per unit s
     if (!(speed > 1e-9)) break;
     const PatternEnergy e = patternEnergy(point, target, sample.u, sample.pattern_map, affine,
-                                          options.huber);
+                                          options.huber, content);
     if (e.valid) steps.push_back({s, path, e.energy});
     const double ds = 1.0 / speed;
     if (steps.empty() && s == 0.0) total_curve_px = speed;  // first-order length of the curve
@@ -172,7 +173,7 @@ TraceResult trace(const Model& model, ImmaturePoint& point, const SE3d& T_target
       const Eigen::Vector2d o(Pattern::kOffsets[i].du, Pattern::kOffsets[i].dv);
       const Eigen::Vector2d q = sample.u + sample.pattern_map * o;
       double value, gx, gy;
-      ok = sampleBilinear(target, q.x(), q.y(), &value) &&
+      ok = sampleBilinear(target, q.x(), q.y(), &value, content) &&
            sampleBilinear(gradients.dx, q.x(), q.y(), &gx) &&
            sampleBilinear(gradients.dy, q.x(), q.y(), &gy);
       if (!ok) break;
@@ -242,10 +243,12 @@ TraceResult traceImmaturePoint(ImmaturePoint& point, const Camera& camera,
                                const SE3d& T_target_host, const ImageF& target,
                                const ImageGradients& target_gradients,
                                const AffineTransfer& affine,
-                               const EpipolarSearchOptions& options) {
+                               const EpipolarSearchOptions& options,
+                               const Mask* target_content) {
   return std::visit(
       [&](const auto& model) {
-        return trace(model, point, T_target_host, target, target_gradients, affine, options);
+        return trace(model, point, T_target_host, target, target_gradients, affine, options,
+                     target_content);
       },
       camera.model());
 }

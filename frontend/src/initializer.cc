@@ -134,6 +134,7 @@ struct Initializer::Impl {
       WindowObservation obs;
       obs.host = makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p);
       obs.target_image = &frame.level(level);
+      obs.target_content = frame.content(level);
       obs.host_exposure = first_exposure;
       obs.target_exposure = exposure;
       obs.level = level;

@@ -24,6 +24,11 @@ Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
   }
   if (options.pyramid_levels <= 0)
     options.pyramid_levels = pyramidLevelsForImage(camera.width(), camera.height());
+  const bool all_content = std::all_of(mask.data(), mask.data() + mask.size(),
+                                       [](std::uint8_t m) { return m != 0; });
+  if (options.reject_targets_outside_content && !all_content)
+    content_levels = std::make_shared<const std::vector<Mask>>(
+        contentPyramid(mask, options.pyramid_levels));
   options.tracker.num_levels = std::min(options.tracker.num_levels, options.pyramid_levels);
   // Keep every pyramid level clear of the content's edge (content_mask.hpp): a level-L
   // sample and its central differences reach 2^L pixels of level 0, the pattern 2 more.
@@ -96,7 +101,8 @@ const FrameRecord& Odometry::addFrame(const ImageF& image, double timestamp, dou
   record.segment = s.segment;
   s.frames.push_back(record);
   FrameRecord& current = s.frames.back();
-  auto pyramid = std::make_shared<const ImagePyramid>(image, s.options.pyramid_levels);
+  auto pyramid =
+      std::make_shared<const ImagePyramid>(image, s.options.pyramid_levels, s.content_levels);
   Stopwatch watch;
   if (!s.initialized) {
     s.initialize(current, pyramid, exposure);

@@ -30,8 +30,12 @@ namespace omnidso {
 
 struct Odometry::Impl {
   Camera camera;
-  Mask mask;
+  Mask mask;  // where pixels are selected: the content, eroded by content_margin_px
   OdometryOptions options;
+  // The content of every pyramid level (not eroded), attached to every frame's pyramid so
+  // that target samples leaving it are invalid; null when every pixel is content or
+  // reject_targets_outside_content is off.
+  std::shared_ptr<const std::vector<Mask>> content_levels;
 
   std::unique_ptr<SlidingWindow> window;
   // What tracking aligns to: set by the mapping side (setTrackingReference), picked up by

@@ -23,8 +23,10 @@ void Odometry::Impl::map(const MappingJob& job) {
     std::vector<ImmaturePoint> keep;
     keep.reserve(list.size());
     for (ImmaturePoint& p : list) {
-      const TraceResult r = traceImmaturePoint(p, camera, T_frame_host, job.pyramid->level(0),
-                                               job.pyramid->gradients(0), transfer, options.epipolar);
+      const TraceResult r =
+          traceImmaturePoint(p, camera, T_frame_host, job.pyramid->level(0),
+                             job.pyramid->gradients(0), transfer, options.epipolar,
+                             job.pyramid->content(0));
       if (r.status == TraceStatus::kOutlier || r.status == TraceStatus::kOutOfBounds) continue;
       keep.push_back(p);
     }

@@ -1,11 +1,13 @@
-// detectContentMask / erodeContent (content_mask.hpp): the black surround of an image circle
-// is found, dark regions inside are kept, an all-black start is not taken for a border, and
-// erosion removes exactly the pixels within the Chebyshev radius of a hole.
+// detectContentMask / erodeContent / contentPyramid (content_mask.hpp): the black surround of
+// an image circle is found, dark regions inside are kept, an all-black start is not taken for
+// a border, erosion removes exactly the pixels within the Chebyshev radius of a hole, and a
+// coarse level's pixel is content only when every pixel it averages is.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/error.hpp>
+#include <omnidso/core/pyramid.hpp>
 
 namespace omnidso {
 namespace {
@@ -63,6 +65,48 @@ TEST(ContentMask, ErosionRemovesTheChebyshevNeighbourhoodOfHolesOnly) {
   for (size_t i = 0; i < full.size(); ++i) full.data()[i] = 1;
   const Mask f = erodeContent(full, 3);
   for (size_t i = 0; i < f.size(); ++i) EXPECT_EQ(f.data()[i], 1);
+}
+
+// Level L of the content pyramid against its definition: a pixel is content iff the whole
+// 2^L × 2^L block of level-0 pixels under it is (the pyramid's means nest), on odd sizes too.
+TEST(ContentPyramid, ACoarsePixelIsContentOnlyWhenEveryPixelUnderItIs) {
+  const ImageU16 frame = discFrame();
+  const Mask level0 = detectContentMask({&frame}, 0);
+  Mask odd(61, 45);  // floor halving: 30×22, 15×11
+  for (int v = 0; v < odd.height(); ++v)
+    for (int u = 0; u < odd.width(); ++u) odd(u, v) = level0(u, v);
+  for (const Mask* m : std::vector<const Mask*>{&level0, &odd}) {
+    const std::vector<Mask> levels = contentPyramid(*m, 3);
+    ASSERT_EQ(levels.size(), 3u);
+    int coarse_content = 0;
+    for (int l = 0; l < 3; ++l) {
+      EXPECT_EQ(levels[l].width(), m->width() >> l);
+      EXPECT_EQ(levels[l].height(), m->height() >> l);
+      for (int v = 0; v < levels[l].height(); ++v)
+        for (int u = 0; u < levels[l].width(); ++u) {
+          bool all = true;
+          for (int y = v << l; y < (v + 1) << l; ++y)
+            for (int x = u << l; x < (u + 1) << l; ++x) all = all && (*m)(x, y) != 0;
+          ASSERT_EQ(levels[l](u, v) != 0, all) << "level " << l << " at " << u << "," << v;
+          coarse_content += l == 2 && all;
+        }
+    }
+    EXPECT_GT(coarse_content, 0);  // the disc survives at level 2
+  }
+  EXPECT_THROW(contentPyramid(level0, 0), Error);
+}
+
+TEST(ContentPyramid, APyramidHandsOutItsLevelsMasksAndRefusesWrongSizes) {
+  const ImageU16 frame = discFrame();
+  auto content = std::make_shared<const std::vector<Mask>>(
+      contentPyramid(detectContentMask({&frame}, 0), 3));
+  const ImagePyramid plain(ImageF(64, 48, 1.f), 3);
+  EXPECT_EQ(plain.content(1), nullptr);
+  const ImagePyramid masked(ImageF(64, 48, 1.f), 3, content);
+  for (int l = 0; l < 3; ++l) EXPECT_EQ(masked.content(l), &(*content)[l]);
+  EXPECT_THROW(masked.content(3), Error);
+  EXPECT_THROW(ImagePyramid(ImageF(64, 48, 1.f), 4, content), Error);  // too few masks
+  EXPECT_THROW(ImagePyramid(ImageF(66, 48, 1.f), 3, content), Error);  // other sizes
 }
 
 }  // namespace

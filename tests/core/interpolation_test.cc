@@ -142,5 +142,23 @@ TEST(Interpolation, MaskNeedsAllFourNeighbours) {
   EXPECT_FALSE(isValidBilinear(mask, -0.01, 1.0));
 }
 
+// A content mask makes the samplers reject exactly the cells isValidBilinear rejects, leaving
+// the value untouched, and returns the unmasked value everywhere else.
+TEST(Interpolation, ContentMaskRejectsCellsTouchingNonContent) {
+  const ImageF img = randomImage(6, 6, 4);
+  Mask content(6, 6, 1);
+  content(3, 2) = 0;
+  for (double v = 0.0; v <= 5.0; v += 0.25)
+    for (double u = 0.0; u <= 5.0; u += 0.25) {
+      double plain = 0, masked = -7, masked_t = -7, d_du = 0, d_dv = 0;
+      ASSERT_TRUE(sampleBilinear(img, u, v, &plain));
+      const bool expected = isValidBilinear(content, u, v);
+      EXPECT_EQ(sampleBilinear(img, u, v, &masked, &content), expected) << u << "," << v;
+      EXPECT_EQ(sampleBilinearWithGradient(img, u, v, &masked_t, &d_du, &d_dv, &content), expected);
+      EXPECT_EQ(masked, expected ? plain : -7.0);
+      EXPECT_EQ(masked_t, expected ? plain : -7.0);
+    }
+}
+
 }  // namespace
 }  // namespace omnidso

@@ -98,6 +98,42 @@ TEST(PhotometricValidityTest, UcmHostPixelOutsideTheImageOfTheSphere) {
   expectRejected<Tag>(c, PhotometricStatus::kHostOutsideDomain);
 }
 
+// A target pattern pixel whose bilinear cell touches a pixel without content (the black
+// surround of a fisheye image) is out of the image: the same residual is valid without the
+// mask, and with a mask whose hole lies elsewhere. Both the window's and the tracker's
+// residuals check it.
+TEST(PhotometricValidityTest, TargetSampleTouchingNonContentIsOutsideTheImage) {
+  using Tag = Ucm;
+  InvalidCase<Tag> c({160.0, 120.0}, SE3d(), 0.5);  // identity: each pattern pixel on itself
+  const auto pointers = c.blocks.pointers();
+  ASSERT_EQ(Tag::status(c.obs, pointers.data()), PhotometricStatus::kValid);
+  Mask content(kTestWidth, kTestHeight, 1);
+  c.obs.target_content = &content;
+  content(100, 100) = 0;
+  EXPECT_EQ(Tag::status(c.obs, pointers.data()), PhotometricStatus::kValid);
+  content(162, 120) = 0;  // pattern offset (2, 0) of DSO's pattern lands on it
+  expectRejected<Tag>(c, PhotometricStatus::kOutsideImage);
+
+  const auto camera = Tag::camera();
+  HostPatch<1> patch;
+  patch.pixel = {162.0, 120.0};
+  auto obs = Tag::trackingObservation(camera, patch, 0.5);
+  ASSERT_TRUE(obs.has_value());
+  obs->target_image = &c.target;
+  const std::array<double, 7> pose = poseBlock(SE3d());
+  const std::array<double, 2> affine = {0.0, 0.0};
+  const double* params[] = {pose.data(), affine.data()};
+  double r = 0.0;
+  for (DifferentiationMode mode : {DifferentiationMode::kAnalytic, DifferentiationMode::kAutodiff}) {
+    obs->target_content = nullptr;
+    EXPECT_TRUE(std::unique_ptr<ceres::CostFunction>(Tag::tracking(mode, camera, *obs))
+                    ->Evaluate(params, &r, nullptr));
+    obs->target_content = &content;
+    EXPECT_FALSE(std::unique_ptr<ceres::CostFunction>(Tag::tracking(mode, camera, *obs))
+                     ->Evaluate(params, &r, nullptr));
+  }
+}
+
 TEST(PhotometricValidityTest, NegativeInverseDistance) {
   const InvalidCase<Ucm> c({160.0, 120.0}, SE3d(), -0.1);
   expectRejected<Ucm>(c, PhotometricStatus::kNegativeInverseDistance);

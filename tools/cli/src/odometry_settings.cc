@@ -23,6 +23,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
   return {
       {"pyramid_levels", &o.pyramid_levels},
       {"content_margin_px", &o.content_margin_px},
+      {"reject_targets_outside_content", &o.reject_targets_outside_content},
       {"max_activation_interval_px", &o.max_activation_interval_px},
       {"min_activation_quality", &o.min_activation_quality},
       {"activation.enabled", &o.activation.enabled},

@@ -19,6 +19,14 @@
 //
 // erodeContent: removes every pixel within `radius` pixels (Chebyshev distance) of a
 // non-content pixel inside the image; the image border itself does not erode.
+//
+// contentPyramid: the content of every level of an ImagePyramid built from images with this
+// content: a level-L pixel is content when all four level-(L−1) pixels its 2×2 mean averages
+// are (sizes halve with floor, as the pyramid's). A coarse pixel that mixes scene and
+// surround is not content. Samplers check it for every target sample (interpolation.hpp,
+// cellIsContent): a target projection that leaves the image circle compares the pattern with
+// the black surround, which favours the motion that keeps it inside — under rotation, less
+// rotation.
 
 #include <omnidso/core/image.hpp>
 #include <vector>
@@ -29,5 +37,7 @@ Mask detectContentMask(const std::vector<const ImageU16*>& frames, int black_lev
                        double max_outside_fraction = 0.6);
 
 Mask erodeContent(const Mask& content, int radius);
+
+std::vector<Mask> contentPyramid(const Mask& level0, int num_levels);
 
 }  // namespace omnidso

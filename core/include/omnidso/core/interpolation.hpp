@@ -52,12 +52,25 @@ inline bool bilinearCell(int width, int height, double u, double v, BilinearCell
   return true;
 }
 
-// Bilinear value at (u, v); false (value untouched) outside the image or for non-finite
-// coordinates. For T = ceres::Jet the derivative parts follow the formula above.
+// Whether all four pixels of a bilinear cell are content in `content` (image-sized, non-zero =
+// content); no mask means the whole image is content. A sample whose footprint touches a
+// pixel without content (the black surround of a fisheye image, content_mask.hpp) mixes
+// scene and surround and is rejected like one outside the image.
+inline bool cellIsContent(const Mask* content, const BilinearCell& c) {
+  if (content == nullptr) return true;
+  const Mask& m = *content;
+  return m(c.u0, c.v0) != 0 && m(c.u1, c.v0) != 0 && m(c.u0, c.v1) != 0 && m(c.u1, c.v1) != 0;
+}
+
+// Bilinear value at (u, v); false (value untouched) outside the image, for non-finite
+// coordinates, or where the footprint leaves `content` (optional, image-sized). For
+// T = ceres::Jet the derivative parts follow the formula above.
 template <typename T>
-bool sampleBilinear(const ImageF& img, const T& u, const T& v, T* value) {
+bool sampleBilinear(const ImageF& img, const T& u, const T& v, T* value,
+                    const Mask* content = nullptr) {
   BilinearCell c;
   if (!bilinearCell(img.width(), img.height(), scalarPart(u), scalarPart(v), &c)) return false;
+  if (!cellIsContent(content, c)) return false;
   const T fu = u - T(static_cast<double>(c.u0));
   const T fv = v - T(static_cast<double>(c.v0));
   const T i00 = T(static_cast<double>(img(c.u0, c.v0)));
@@ -70,11 +83,13 @@ bool sampleBilinear(const ImageF& img, const T& u, const T& v, T* value) {
 }
 
 // Value and the exact partial derivatives of the bilinear interpolant (formulas above).
-// Any of the output pointers may be null.
+// Any of the output pointers may be null. `content` as for sampleBilinear.
 inline bool sampleBilinearWithGradient(const ImageF& img, double u, double v, double* value,
-                                       double* d_du, double* d_dv) {
+                                       double* d_du, double* d_dv,
+                                       const Mask* content = nullptr) {
   BilinearCell c;
   if (!bilinearCell(img.width(), img.height(), u, v, &c)) return false;
+  if (!cellIsContent(content, c)) return false;
   const double fu = u - c.u0;
   const double fv = v - c.v0;
   const double i00 = img(c.u0, c.v0);
@@ -94,8 +109,7 @@ inline bool sampleBilinearWithGradient(const ImageF& img, double u, double v, do
 inline bool isValidBilinear(const Mask& mask, double u, double v) {
   BilinearCell c;
   if (!bilinearCell(mask.width(), mask.height(), u, v, &c)) return false;
-  return mask(c.u0, c.v0) != 0 && mask(c.u1, c.v0) != 0 && mask(c.u0, c.v1) != 0 &&
-         mask(c.u1, c.v1) != 0;
+  return cellIsContent(&mask, c);
 }
 
 }  // namespace omnidso

@@ -4,6 +4,7 @@
 // every level are computed once here because tracking and pixel selection read them many
 // times.
 
+#include <memory>
 #include <vector>
 
 #include "omnidso/core/image.hpp"
@@ -33,15 +34,22 @@ class ImagePyramid {
 
   // Throws omnidso::Error if num_levels < 1 or the coarsest level would be smaller than
   // kMinCoarsestSize along either axis.
-  explicit ImagePyramid(ImageF level0, int num_levels = kDefaultNumLevels);
+  // content (optional): where each level has image content (contentPyramid of
+  // content_mask.hpp; at least num_levels masks of the levels' sizes), shared by every
+  // frame of a camera; the residuals reject target samples that leave it.
+  explicit ImagePyramid(ImageF level0, int num_levels = kDefaultNumLevels,
+                        std::shared_ptr<const std::vector<Mask>> content = nullptr);
 
   int numLevels() const { return static_cast<int>(levels_.size()); }
   const ImageF& level(int index) const;
   const ImageGradients& gradients(int index) const;
+  // The content mask of a level, or nullptr when the whole image is content.
+  const Mask* content(int index) const;
 
  private:
   std::vector<ImageF> levels_;
   std::vector<ImageGradients> gradients_;
+  std::shared_ptr<const std::vector<Mask>> content_;
 };
 
 }  // namespace omnidso

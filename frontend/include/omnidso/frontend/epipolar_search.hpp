@@ -90,10 +90,13 @@ struct TraceResult {
 };
 
 // Searches the point in a target image (level 0) and updates its interval, quality and status.
+// target_content: where the target has content (ImagePyramid::content; nullptr: the whole
+// image); a pattern sample touching a pixel without it is invalid, as one outside the image.
 TraceResult traceImmaturePoint(ImmaturePoint& point, const Camera& camera,
                                const SE3d& T_target_host, const ImageF& target,
                                const ImageGradients& target_gradients,
                                const AffineTransfer& affine,
-                               const EpipolarSearchOptions& options);
+                               const EpipolarSearchOptions& options,
+                               const Mask* target_content = nullptr);
 
 }  // namespace omnidso

@@ -39,6 +39,11 @@ struct OdometryOptions {
   // mask, e.g. the black surround of a fisheye's image circle) are not used; −1: 2^levels + 3,
   // the reach of the coarsest level (core/content_mask.hpp says why).
   int content_margin_px = -1;
+  // Target samples (tracking, initialisation, window, epipolar search, activation) whose
+  // bilinear footprint touches a pixel without content on their pyramid level are invalid,
+  // as samples outside the image are (core/content_mask.hpp, contentPyramid). false: only
+  // the image rectangle and the model's domain bound them (an ablation).
+  bool reject_targets_outside_content = true;
   std::uint64_t seed = 0;
   WindowOptions window;
   CoarseTrackerOptions tracker;

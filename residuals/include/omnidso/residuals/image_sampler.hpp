@@ -5,7 +5,10 @@
 //   bilinear: core/interpolation.hpp, valid on [0, w−1] × [0, h−1];
 //   bicubic:  ceres::BiCubicInterpolator on ceres::Grid2D, valid on [1, w−2] × [1, h−2]
 //             (its 4×4 footprint stays inside the image; Grid2D would clamp beyond).
-// The sampler keeps a pointer to the image: the image must outlive it.
+// `content` (optional, image-sized): samples whose bilinear cell touches a pixel without
+// content are rejected like samples outside the image (content_mask.hpp says why; for
+// bicubic the central cell of the 4×4 footprint is checked).
+// The sampler keeps pointers to the image and the mask: both must outlive it.
 
 #include <ceres/cubic_interpolation.h>
 
@@ -19,8 +22,9 @@ namespace omnidso {
 
 class ImageSampler {
  public:
-  ImageSampler(const ImageF& image, ImageInterpolation interpolation)
-      : image_(&image), interpolation_(interpolation) {
+  ImageSampler(const ImageF& image, ImageInterpolation interpolation,
+               const Mask* content = nullptr)
+      : image_(&image), content_(content), interpolation_(interpolation) {
     if (interpolation_ == ImageInterpolation::kBicubic) {
       grid_ = std::make_unique<Grid>(image.data(), 0, image.height(), 0, image.width());
       bicubic_ = std::make_unique<BiCubic>(*grid_);
@@ -30,18 +34,20 @@ class ImageSampler {
   template <typename T>
   bool sample(const T& u, const T& v, T* value) const {
     if (interpolation_ == ImageInterpolation::kBilinear) {
-      return sampleBilinear(*image_, u, v, value);
+      return sampleBilinear(*image_, u, v, value, content_);
     }
-    if (!insideBicubicRegion(scalarPart(u), scalarPart(v))) return false;
+    if (!insideBicubicRegion(scalarPart(u), scalarPart(v)) ||
+        !isContent(scalarPart(u), scalarPart(v)))
+      return false;
     bicubic_->Evaluate(v, u, value);  // (row, column)
     return true;
   }
 
   bool sampleWithGradient(double u, double v, double* value, double* d_du, double* d_dv) const {
     if (interpolation_ == ImageInterpolation::kBilinear) {
-      return sampleBilinearWithGradient(*image_, u, v, value, d_du, d_dv);
+      return sampleBilinearWithGradient(*image_, u, v, value, d_du, d_dv, content_);
     }
-    if (!insideBicubicRegion(u, v)) return false;
+    if (!insideBicubicRegion(u, v) || !isContent(u, v)) return false;
     bicubic_->Evaluate(v, u, value, d_dv, d_du);
     return true;
   }
@@ -55,7 +61,14 @@ class ImageSampler {
     return u >= 1.0 && v >= 1.0 && u <= image_->width() - 2.0 && v <= image_->height() - 2.0;
   }
 
+  bool isContent(double u, double v) const {
+    BilinearCell c;
+    return content_ == nullptr ||
+           (bilinearCell(image_->width(), image_->height(), u, v, &c) && cellIsContent(content_, c));
+  }
+
   const ImageF* image_;
+  const Mask* content_;
   ImageInterpolation interpolation_;
   std::unique_ptr<Grid> grid_;
   std::unique_ptr<BiCubic> bicubic_;

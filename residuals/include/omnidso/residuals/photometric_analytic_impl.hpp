@@ -16,7 +16,8 @@ namespace omnidso {
 template <template <typename> class Camera, int N>
 PhotometricResidualAnalytic<Camera, N>::PhotometricResidualAnalytic(
     const PhotometricObservation<N>& observation)
-    : observation_(observation), sampler_(*observation.target_image, observation.interpolation) {}
+    : observation_(observation), sampler_(*observation.target_image, observation.interpolation,
+               observation.target_content) {}
 
 template <template <typename> class Camera, int N>
 bool PhotometricResidualAnalytic<Camera, N>::Evaluate(double const* const* parameters,

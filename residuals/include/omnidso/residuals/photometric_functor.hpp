@@ -23,7 +23,8 @@ class PhotometricResidualFunctor {
 
   // observation.target_image must outlive the functor.
   explicit PhotometricResidualFunctor(const PhotometricObservation<N>& observation)
-      : observation_(observation), sampler_(*observation.target_image, observation.interpolation) {}
+      : observation_(observation), sampler_(*observation.target_image, observation.interpolation,
+               observation.target_content) {}
 
   template <typename T>
   bool operator()(const T* host_pose, const T* target_pose, const T* inverse_distance,

@@ -90,6 +90,9 @@ template <int N>
 struct PhotometricObservation {
   HostPatch<N> host;
   const ImageF* target_image = nullptr;  // level `level` of the target frame; not owned
+  // Where that level has content (ImagePyramid::content), or nullptr for the whole image;
+  // not owned. A sample touching a pixel without content is out of the image.
+  const Mask* target_content = nullptr;
   double host_exposure = 1.0;            // t_i
   double target_exposure = 1.0;          // t_j
   // The intrinsics block always holds the level-0 parameters; the residual scales them

@@ -28,6 +28,7 @@ struct TrackingObservation {
   std::array<double, N> host_intensity{};        // I_i[p + o]
   std::array<double, N> sqrt_weight{};           // √w_o
   const ImageF* target_image = nullptr;          // target image of the level; not owned
+  const Mask* target_content = nullptr;          // its content (photometric_residual.hpp)
   double host_exposure = 1.0;                    // t_i
   double target_exposure = 1.0;                  // t_j
   double host_a = 0.0;                           // host affine, fixed while tracking

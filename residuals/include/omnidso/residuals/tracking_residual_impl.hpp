@@ -34,7 +34,8 @@ TrackingResidualAnalytic<Camera, N>::TrackingResidualAnalytic(
     const Camera<double>& level_camera, const TrackingObservation<N>& observation)
     : camera_(level_camera),
       observation_(observation),
-      sampler_(*observation.target_image, observation.interpolation) {}
+      sampler_(*observation.target_image, observation.interpolation,
+               observation.target_content) {}
 
 template <template <typename> class Camera, int N>
 bool TrackingResidualAnalytic<Camera, N>::Evaluate(double const* const* parameters,
@@ -99,7 +100,8 @@ class TrackingResidualFunctor {
                           const TrackingObservation<N>& observation)
       : camera_(level_camera),
         observation_(observation),
-        sampler_(*observation.target_image, observation.interpolation) {}
+        sampler_(*observation.target_image, observation.interpolation,
+               observation.target_content) {}
 
   template <typename T>
   bool operator()(const T* relative_pose, const T* target_affine, T* residuals) const {
