@@ -12,13 +12,16 @@
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/cameras/unified.hpp>
 #include <omnidso/residuals/photometric_kernel.hpp>
+#include <utility>
 
 namespace omnidso {
 namespace {
 
 constexpr int kN = kWindowPatternSize;
-// Columns of one residual's pair Jacobian: ε = [ρ φ] of T_th, α, β, γ (header), intrinsics.
-constexpr int kEpsilon = 0, kAlpha = 6, kBeta = 7, kGamma = 8, kPairIntrinsics = 9;
+// Columns of one residual's pair Jacobian: ε = [ρ φ] of T_th, α, γ (header), intrinsics.
+// β = √w s = −s γ within a pair, so its column is not stored: the pair-to-frames map applies
+// the factor (pairToFrames, and the points' rows in accumulate).
+constexpr int kEpsilon = 0, kAlpha = 6, kGamma = 7, kPairIntrinsics = 8;
 
 template <template <typename> class Camera>
 class PhotometricTermsOf final : public WindowPhotometricTerms {
@@ -28,6 +31,10 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   static constexpr int kGramSize = kColumns + 1;         // … and r̃
   using Gram = Eigen::Matrix<double, kGramSize, kGramSize>;
   using Rows = Eigen::Matrix<double, kN, kGramSize, Eigen::RowMajor>;  // [J | r̃] of a residual
+  struct PairGram {
+    Gram lower;  // ΣAᵀA over the pair's residuals, lower triangle only
+    bool used = false;
+  };
   using Adjoint = Eigen::Matrix<double, 6, 6>;
   using PairToFrames = Eigen::Matrix<double, kPairIntrinsics, 2 * kFrameTangentSize>;
 
@@ -57,8 +64,11 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
         if (equations) adjoints_[pair] = adjointOf(pairs_[pair]);
       }
     if (equations) {
-      pair_gram_.assign(pairs_.size(), Gram::Zero());
-      pair_used_.assign(pairs_.size(), 0);
+      pair_grams_.resize(pairs_.size());
+      for (PairGram& g : pair_grams_) {
+        g.lower.setZero();
+        g.used = false;
+      }
     }
 
     // OutOfBoundsPenalty's constant residual √(E/N) per pixel.
@@ -126,7 +136,6 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
       rows.template block<1, 3>(o, kEpsilon) = d * g;
       rows.template block<1, 3>(o, kEpsilon + 3) = -(g * skew(x));
       rows(o, kAlpha) = sw * pair.s * patch.host_term[o];
-      rows(o, kBeta) = sw * pair.s;
       rows(o, kGamma) = -sw;
       if (want_intrinsics)  // level 0: ∂c_L/∂c_0 = I
         rows.template block<1, K>(o, kPairIntrinsics) = patch.d_r_d_intrinsics.row(o);
@@ -141,8 +150,9 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
     r_corrected = r;
     correction.correctResiduals(r_corrected);
 
-    pair_gram_[pair_index].noalias() += rows.transpose().lazyProduct(rows);
-    pair_used_[pair_index] = 1;
+    addToLowerGram(Rows(rows), pair_grams_[pair_index].lower,
+                   std::make_integer_sequence<int, (kGramSize + 1) / 2>{});
+    pair_grams_[pair_index].used = true;
 
     equations->pointHessian(p) += J_d.squaredNorm();
     equations->pointGradient(p) += J_d.dot(r_corrected);
@@ -152,11 +162,28 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
     const int host_offset = kFrameTangentSize * h, target_offset = kFrameTangentSize * t;
     w.template segment<6>(host_offset) += v.template segment<6>(kEpsilon) * adjoint;
     w[host_offset + 6] += v[kAlpha];
-    w[host_offset + 7] += v[kBeta];
+    w[host_offset + 7] -= pair.s * v[kGamma];  // β = −s γ
     w.template segment<6>(target_offset) -= v.template segment<6>(kEpsilon);
     w[target_offset + 6] -= v[kAlpha];
     w[target_offset + 7] += v[kGamma];
     w.template segment<K>(kFrameTangentSize * num_frames_) += v.template segment<K>(kPairIntrinsics);
+  }
+
+  // G += AᵀA, lower triangle only, two columns at a time (the last one alone when the size
+  // is odd): half the products of the full AᵀA, in fixed-size blocks the compiler unrolls.
+  // The window benchmark's 2-iteration solve: 0.83× the time of the full lazy product; 16
+  // residuals collected per pair for one larger product were slower. The rows are passed as
+  // a fresh copy: updating from the residual's own working matrix measured 1.2× slower
+  // (docs/performance.md, "The native window solver").
+  template <int... ColumnPair>
+  static void addToLowerGram(const Rows& rows, Gram& G, std::integer_sequence<int, ColumnPair...>) {
+    (addColumnsToLowerGram<2 * ColumnPair>(rows, G), ...);
+  }
+  template <int J>
+  static void addColumnsToLowerGram(const Rows& rows, Gram& G) {
+    constexpr int n = kGramSize - J, width = n < 2 ? n : 2;
+    G.template block<n, width>(J, J).noalias() +=
+        rows.template rightCols<n>().transpose().lazyProduct(rows.template middleCols<width>(J));
   }
 
   static Adjoint adjointOf(const PhotometricPair& pair) {
@@ -167,12 +194,13 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
     return a;
   }
 
-  // [M_h M_t] of the header: pair columns → [host pose, host affine, target pose, target affine].
-  static PairToFrames pairToFrames(const Adjoint& adjoint) {
+  // [M_h M_t] of the header with β = −s γ folded in: pair columns [ε α γ] → [host pose,
+  // host affine, target pose, target affine].
+  static PairToFrames pairToFrames(const Adjoint& adjoint, double s) {
     PairToFrames m = PairToFrames::Zero();
     m.template block<6, 6>(kEpsilon, 0) = adjoint;
     m(kAlpha, 6) = 1.0;
-    m(kBeta, 7) = 1.0;
+    m(kGamma, 7) = -s;
     m.template block<6, 6>(kEpsilon, kFrameTangentSize) = -Adjoint::Identity();
     m(kAlpha, kFrameTangentSize + 6) = -1.0;
     m(kGamma, kFrameTangentSize + 7) = 1.0;
@@ -187,14 +215,15 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
     for (int h = 0; h < num_frames; ++h)
       for (int t = 0; t < num_frames; ++t) {
         const int pair = h * num_frames + t;
-        if (h == t || !pair_used_[pair]) continue;
-        const Gram& G = pair_gram_[pair];
-        const PairToFrames M = pairToFrames(adjoints_[pair]);
+        if (h == t || !pair_grams_[pair].used) continue;
+        const Gram G = pair_grams_[pair].lower.template selfadjointView<Eigen::Lower>();
+        const PairToFrames M = pairToFrames(adjoints_[pair], pairs_[pair].s);
         const auto G_pair = G.template topLeftCorner<kPairIntrinsics, kPairIntrinsics>();
         const auto G_pair_c = G.template block<kPairIntrinsics, K>(0, kPairIntrinsics);
         const Eigen::Matrix<double, 16, 16> H_frames = M.transpose() * G_pair * M;
         const Eigen::Matrix<double, 16, K> H_frames_c = M.transpose() * G_pair_c;
-        const Eigen::Matrix<double, 16, 1> g_frames = M.transpose() * G.template block<kPairIntrinsics, 1>(0, kColumns);
+        const Eigen::Matrix<double, 16, 1> g_frames =
+            M.transpose() * G.template block<kPairIntrinsics, 1>(0, kColumns);
         const int offset[2] = {kFrameTangentSize * h, kFrameTangentSize * t};
         for (int a = 0; a < 2; ++a) {
           for (int b = 0; b < 2; ++b)
@@ -219,8 +248,7 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   int num_frames_ = 0;
   std::vector<PhotometricPair> pairs_;  // host-major, F × F
   std::vector<Adjoint> adjoints_;       // Ad(T_th) per pair
-  std::vector<Gram> pair_gram_;
-  std::vector<char> pair_used_;
+  std::vector<PairGram> pair_grams_;
 };
 
 }  // namespace

@@ -44,12 +44,13 @@ WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolver
   const Stopwatch clock;
   WindowSolverSummary summary;
   WindowState state(problem);
-  WindowNormalEquations equations;
+  // The normal equations at x, and at the candidate x ⊞ δ.
+  WindowNormalEquations equations, candidate_equations;
   std::vector<double> start, x;
   state.save(&start);
-  auto evaluate = [&](bool linearize, WindowCost* cost) {
+  auto evaluate = [&](WindowNormalEquations* at, WindowCost* cost) {
     const Stopwatch watch;
-    const bool ok = evaluateWindow(problem, linearize ? &equations : nullptr, cost);
+    const bool ok = evaluateWindow(problem, at, cost);
     summary.evaluation_ms += watch.elapsedMs();
     return ok;
   };
@@ -61,7 +62,7 @@ WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolver
 
   // Iteration 0.
   WindowCost cost;
-  if (!evaluate(true, &cost)) {
+  if (!evaluate(&equations, &cost)) {
     fail("Residual and Jacobian evaluation failed.");
     return summary;
   }
@@ -133,12 +134,18 @@ WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolver
     }
     consecutive_invalid_steps = 0;
 
-    // The candidate x ⊞ δ.
+    // The candidate x ⊞ δ, with its normal equations unless this is the last iteration: an
+    // accepted candidate (nearly every one in the odometry) is the next linearisation point,
+    // where Ceres evaluates residuals and Jacobian again; the cost is the same either way.
     state.save(&x);
     state.plus(frame_step, point_step);
+    const bool linearize_candidate = iteration < options.max_num_iterations;
     WindowCost candidate;
+    bool candidate_linearized =
+        evaluate(linearize_candidate ? &candidate_equations : nullptr, &candidate);
     const double candidate_cost =
-        evaluate(false, &candidate) ? candidate.variable : std::numeric_limits<double>::max();
+        candidate_linearized ? candidate.variable : std::numeric_limits<double>::max();
+    candidate_linearized = candidate_linearized && linearize_candidate;
     const double step_norm = state.distanceTo(x);
     const double parameter_tolerance =
         options.parameter_tolerance * (x_norm + options.parameter_tolerance);
@@ -165,16 +172,11 @@ WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolver
                                     : cost_change / model_cost_change;
     if (step_quality > options.min_relative_decrease) {
       x_norm = state.norm();
-      if (iteration < options.max_num_iterations) {
-        if (!evaluate(true, &cost)) {
-          fail("Residual and Jacobian evaluation failed.");
-          break;
-        }
-        x_cost = cost.variable;
+      x_cost = candidate_cost;
+      if (candidate_linearized) {
+        std::swap(equations, candidate_equations);
         gradient_max_norm = state.gradientMaxNorm(equations);
-      } else {
-        x_cost = candidate_cost;  // the same evaluation; its Jacobian would go unused
-      }
+      }  // else the last iteration: the Jacobian there would go unused
       step_successful = true;
       iteration_cost = x_cost + fixed_cost;
       region.stepAccepted(step_quality, options.max_trust_region_radius);

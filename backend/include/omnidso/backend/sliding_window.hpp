@@ -102,8 +102,10 @@ struct WindowOptions {
   // the same Levenberg–Marquardt semantics, faster (docs/performance.md, "The native window
   // solver"). Level 0 with hand-derived residuals and without jacobi_scaling only; other
   // solves (the coarser levels of optimizeCoarseToFine, autodiff, Jacobi scaling, a prior on
-  // a point) stay on Ceres. Single-threaded (num_threads is Ceres's).
-  bool native_solver = false;
+  // a point) stay on Ceres. Single-threaded (num_threads is Ceres's). On by default: the
+  // development set's accuracy is unchanged within its seed spread and the window solve takes
+  // ≈ 1/4 of Ceres's time; false is ceres::Solve, for ablations and as the oracle.
+  bool native_solver = true;
   int num_threads = 1;
   // Reduced camera systems up to this size use DENSE_SCHUR, larger ones SPARSE_SCHUR.
   int dense_schur_max_size = 400;

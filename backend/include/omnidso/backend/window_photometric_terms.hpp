@@ -11,12 +11,12 @@
 //   host:   T_wh ← T_wh exp(δ_h)  ⇒ ε = Ad(T_th) δ_h,  Ad(T) = [[R, [t]× R], [0, R]]
 //   target: T_wt ← T_wt exp(δ_t)  ⇒ ε = −δ_t
 // (J_ε Ad = [d gR, −gR[b]×] and −J_ε = [−d g, g[x̃]×]: photometric_analytic.hpp's rows).
-// Affine, with α_o = √w s h_o, β_o = √w s, γ_o = −√w: ∂r/∂[a_i b_i] = [α β],
-// ∂r/∂[a_j b_j] = [−α γ]. So per residual the Jacobian has the pair columns [J_ε α β γ],
-// the intrinsics (K, level 0) and the inverse distance; per pair their JᵀJ (and Jᵀr) are
-// summed, and mapped to the two frames' [pose affine] blocks once per pair:
-//   [J_host J_target] = J_pair · [M_h M_t],  M_h = [[Ad, 0], [0, e_a], [0, e_b], [0, 0]],
-//   M_t = [[−I, 0], [0, −e_a], [0, 0], [0, e_b]].
+// Affine, with α_o = √w s h_o, γ_o = −√w (and β_o = √w s = −s γ_o): ∂r/∂[a_i b_i] =
+// [α −sγ], ∂r/∂[a_j b_j] = [−α γ]. So per residual the Jacobian has the pair columns
+// [J_ε α γ], the intrinsics (K, level 0) and the inverse distance; per pair their JᵀJ (and
+// Jᵀr) are summed, and mapped to the two frames' [pose affine] blocks once per pair:
+//   [J_host J_target] = J_pair · [M_h M_t],  M_h = [[Ad, 0], [0, e_a], [0, −s e_b]],
+//   M_t = [[−I, 0], [0, −e_a], [0, e_b]].
 // Per point: h_p, g_p, and its row of W (the coupling to the frames) per residual.
 //
 // Robust loss: Ceres's correction on the block (robust_correction.hpp). Invalid residuals

@@ -25,8 +25,11 @@
 //    ≤ 1e-10 (after accepted steps) and Δ ≤ 1e-32 end the solve.
 // E excludes Ceres's fixed cost (blocks whose parameters are all constant) in the
 // tolerances; the reported costs include it, and the final cost is the least iteration cost
-// (Ceres's SetSummaryFinalCost). After the last allowed accepted step the Jacobian is not
-// evaluated: nothing would use it (evaluation_reuse.hpp explains the same for Ceres).
+// (Ceres's SetSummaryFinalCost).
+// Evaluations: the candidate of every iteration but the last is evaluated with its normal
+// equations, so an accepted step — nearly every one in the odometry — needs no second
+// evaluation at its point (a rejected one wastes them); the last candidate's cost only:
+// its Jacobian would go unused (evaluation_reuse.hpp explains the same for Ceres).
 // A failed solve restores the starting values, as Ceres does.
 //
 // Deterministic: everything is summed in a fixed order (points by id, keyframes oldest first).

@@ -87,6 +87,10 @@ struct PatchDerivatives {
 // r_o for every pattern pixel, and the derivative rows when `derivatives` is given
 // (∂r/∂c_L only with want_intrinsics; `bearings` must then hold ∂b/∂c). On any status but
 // kValid, `residuals` and `derivatives` hold partial values and must not be used.
+// Two passes: first every pixel's projection and target sample, then the residuals and
+// derivative rows — the target-image reads, where the solvers wait on memory, are then
+// issued close together instead of one per pixel's worth of arithmetic. The first failure
+// in pixel order decides the status, as in a pixel-by-pixel evaluation.
 template <class CameraD, int N>
 PhotometricStatus evaluatePhotometricPatch(
     const CameraD& camera, const ImageSampler& sampler, const HostPatch<N>& host,
@@ -95,33 +99,46 @@ PhotometricStatus evaluatePhotometricPatch(
     PatchDerivatives<N, CameraD::kNumParams>* derivatives, bool want_intrinsics) {
   const double d = inverse_distance;
   if (!(d >= 0.0)) return PhotometricStatus::kNegativeInverseDistance;
-  typename CameraD::Mat23 d_uv_d_x;
-  typename CameraD::Mat2N d_uv_d_c;
-  for (int o = 0; o < N; ++o) {
-    if (o >= bearings.num_valid) return PhotometricStatus::kHostOutsideDomain;
-    const Eigen::Vector3d& b = bearings.bearing[o];
-    const Eigen::Vector3d x = pair.R * b + d * pair.t;
-    typename CameraD::Vec2 uv;
-    if (!camera.project(x, uv, derivatives ? &d_uv_d_x : nullptr,
-                        want_intrinsics ? &d_uv_d_c : nullptr)) {
-      return projectionFailure(camera, x);
+  std::array<Eigen::Vector3d, N> x;
+  std::array<typename CameraD::Vec2, N> uv;
+  std::array<typename CameraD::Mat23, N> d_uv_d_x;
+  std::array<typename CameraD::Mat2N, N> d_uv_d_c;
+  int num_projected = 0;
+  PhotometricStatus projection_status = PhotometricStatus::kValid;
+  for (; num_projected < N; ++num_projected) {
+    const int o = num_projected;
+    if (o >= bearings.num_valid) {
+      projection_status = PhotometricStatus::kHostOutsideDomain;
+      break;
     }
-    double intensity, di_du, di_dv;
-    if (!sampler.sampleWithGradient(uv.x(), uv.y(), &intensity, &di_du, &di_dv)) {
+    x[o] = pair.R * bearings.bearing[o] + d * pair.t;
+    if (!camera.project(x[o], uv[o], derivatives ? &d_uv_d_x[o] : nullptr,
+                        want_intrinsics ? &d_uv_d_c[o] : nullptr)) {
+      projection_status = projectionFailure(camera, x[o]);
+      break;
+    }
+  }
+  std::array<double, N> intensity, di_du, di_dv;
+  for (int o = 0; o < num_projected; ++o) {
+    if (!sampler.sampleWithGradient(uv[o].x(), uv[o].y(), &intensity[o], &di_du[o], &di_dv[o]))
       return PhotometricStatus::kOutsideImage;
-    }
+  }
+  if (num_projected < N) return projection_status;
+
+  for (int o = 0; o < N; ++o) {
     const double sw = host.sqrt_weight[o];
     const double h = host.intensity[o] - pair.b_host;
-    residuals[o] = sw * ((intensity - pair.b_target) - pair.s * h);
+    residuals[o] = sw * ((intensity[o] - pair.b_target) - pair.s * h);
     if (!derivatives) continue;
-    const Eigen::RowVector2d grad = sw * Eigen::RowVector2d(di_du, di_dv);
-    const Eigen::RowVector3d g = grad * d_uv_d_x;  // ∂r/∂x̃
+    const Eigen::RowVector2d grad = sw * Eigen::RowVector2d(di_du[o], di_dv[o]);
+    const Eigen::RowVector3d g = grad * d_uv_d_x[o];  // ∂r/∂x̃
     derivatives->d_r_d_x.row(o) = g;
-    derivatives->point.row(o) = x.transpose();
+    derivatives->point.row(o) = x[o].transpose();
     derivatives->host_term[o] = h;
     if (want_intrinsics) {
       const Eigen::RowVector3d gR = g * pair.R;
-      derivatives->d_r_d_intrinsics.row(o) = grad * d_uv_d_c + gR * bearings.d_bearing_d_intrinsics[o];
+      derivatives->d_r_d_intrinsics.row(o) =
+          grad * d_uv_d_c[o] + gR * bearings.d_bearing_d_intrinsics[o];
     }
   }
   return PhotometricStatus::kValid;
