@@ -1,8 +1,9 @@
 // One window optimisation (7 keyframes, ~2000 points, UCM 480×480) on rendered images:
 // time per solve and per iteration, hand-derived against autodiff residuals, DSO's 6
 // iterations against the odometry's 2 (with and without reusing evaluations,
-// evaluation_reuse.hpp), and the share of the time spent evaluating
-// residuals/Jacobians versus in the linear solver.
+// evaluation_reuse.hpp), Ceres against the native window solver (window_solver.hpp), and
+// the share of the time spent evaluating residuals/Jacobians versus in the linear solver.
+// Building the window and destroying it are outside the timed region.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -73,10 +74,10 @@ const WindowFixture& fixture() {
 }
 
 void BM_WindowOptimization(benchmark::State& state, DifferentiationMode mode, int max_iterations,
-                           bool reuse_evaluations) {
+                           bool reuse_evaluations, bool native_solver) {
   const WindowFixture& f = fixture();
   double iterations = 0, eval_ms = 0, linear_ms = 0, solve_ms = 0;
-  int solves = 0, num_points = 0;
+  int solves = 0, num_points = 0, num_residuals = 0;
   for (auto _ : state) {
     state.PauseTiming();
     WindowOptions options;
@@ -84,16 +85,19 @@ void BM_WindowOptimization(benchmark::State& state, DifferentiationMode mode, in
     options.differentiation = mode;
     options.max_iterations = max_iterations;
     options.reuse_evaluations = reuse_evaluations;
-    SlidingWindow window(f.camera.modelName(), f.camera.params(), options);
+    options.native_solver = native_solver;
+    auto window = std::make_unique<SlidingWindow>(f.camera.modelName(), f.camera.params(), options);
     for (int k = 0; k < 7; ++k)
-      window.addKeyframe(k, 0.05 * k, 1.0, f.poses[k], Eigen::Vector2d::Zero(), f.images[k]);
+      window->addKeyframe(k, 0.05 * k, 1.0, f.poses[k], Eigen::Vector2d::Zero(), f.images[k]);
     int added = 0;
     for (const auto& [host, pixel, d] : f.points)
-      if (added < 2000 && window.addPoint(host, pixel, d * 1.05) >= 0) ++added;
-    num_points = window.numPoints();
+      if (added < 2000 && window->addPoint(host, pixel, d * 1.05) >= 0) ++added;
+    num_points = window->numPoints();
+    num_residuals = window->numResiduals();
     state.ResumeTiming();
-    const WindowSolveSummary s = window.optimize();
+    const WindowSolveSummary s = window->optimize();
     state.PauseTiming();
+    window.reset();
     iterations += s.iterations;
     eval_ms += s.evaluation_ms;
     linear_ms += s.linear_solver_ms;
@@ -102,6 +106,7 @@ void BM_WindowOptimization(benchmark::State& state, DifferentiationMode mode, in
     state.ResumeTiming();
   }
   state.counters["points"] = num_points;
+  state.counters["residuals"] = num_residuals;
   state.counters["iterations"] = iterations / solves;
   state.counters["ms_per_iteration"] = solve_ms / std::max(1.0, iterations);
   state.counters["evaluation_share"] = eval_ms / solve_ms;
@@ -109,19 +114,29 @@ void BM_WindowOptimization(benchmark::State& state, DifferentiationMode mode, in
 }
 
 // DSO's budget per keyframe: 6 iterations.
-BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Analytic, DifferentiationMode::kAnalytic, 6, true)
+BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Analytic, DifferentiationMode::kAnalytic, 6, true,
+                  false)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
-BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Autodiff, DifferentiationMode::kAutodiff, 6, true)
+BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Autodiff, DifferentiationMode::kAutodiff, 6, true,
+                  false)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(2);
 // The odometry's default (WindowOptions::max_iterations).
 BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Analytic_2it, DifferentiationMode::kAnalytic, 2,
-                  true)
+                  true, false)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(5);
 BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Analytic_2it_no_reuse,
-                  DifferentiationMode::kAnalytic, 2, false)
+                  DifferentiationMode::kAnalytic, 2, false, false)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(5);
+// The native window solver on the same problem (the same analytic residual kernel).
+BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Native, DifferentiationMode::kAnalytic, 6, true, true)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(5);
+BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Native_2it, DifferentiationMode::kAnalytic, 2, true,
+                  true)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(5);
 

@@ -1,4 +1,5 @@
 #include <omnidso/backend/photometric_factory.hpp>
+#include <omnidso/backend/window_photometric_terms.hpp>
 #include <omnidso/cameras/double_sphere.hpp>
 #include <omnidso/cameras/extended_unified.hpp>
 #include <omnidso/cameras/kannala_brandt.hpp>
@@ -21,6 +22,9 @@ class TypedFactory final : public PhotometricResidualFactory {
   PhotometricStatus status(const WindowObservation& observation,
                            double const* const* parameters) const override {
     return photometricStatus<Camera, kWindowPatternSize>(observation, parameters);
+  }
+  std::shared_ptr<WindowPhotometricTerms> makeWindowTerms() const override {
+    return makeWindowPhotometricTerms<Camera>();
   }
   bool unproject(const Eigen::VectorXd& intrinsics, const Eigen::Vector2d& pixel,
                  Eigen::Vector3d& bearing) const override {

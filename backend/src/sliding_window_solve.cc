@@ -2,8 +2,9 @@
 // distance (chosen before the first solve, and again whenever that point has left),
 // invalid residuals dropped before each one, and Ceres's Levenberg–Marquardt with the points
 // eliminated first by the Schur complement, in an elimination order that does not depend on
-// memory addresses (bit-for-bit results); optimizeCoarseToFine solves the same problem on
-// each pyramid level in turn.
+// memory addresses (bit-for-bit results) — or, where WindowOptions::native_solver allows
+// it, the native solver (sliding_window_native.cc); optimizeCoarseToFine solves the same
+// problem on each pyramid level in turn.
 #include <ceres/ordered_groups.h>
 #include <ceres/solver.h>
 
@@ -44,7 +45,7 @@ WindowSolveSummary SlidingWindow::optimize() {
   // the previous solve; new residuals are only added where valid).
   if (!all_residuals_valid_) dropInvalidResiduals();
   holdScaleAnchor();
-  return solve();
+  return solve(0);
 }
 
 void SlidingWindow::rebuildResiduals(int level,
@@ -67,7 +68,7 @@ WindowSolveSummary SlidingWindow::optimizeCoarseToFine(int num_levels) {
   total.initial_cost = std::numeric_limits<double>::quiet_NaN();
   for (int level = coarsest; level >= 0; --level) {
     rebuildResiduals(level, targets);
-    const WindowSolveSummary s = solve();
+    const WindowSolveSummary s = solve(level);
     if (level == coarsest) total.initial_cost = s.initial_cost;
     total.iterations += s.iterations;
     total.successful_iterations += s.successful_iterations;
@@ -87,12 +88,16 @@ WindowSolveSummary SlidingWindow::optimizeCoarseToFine(int num_levels) {
   return total;
 }
 
-WindowSolveSummary SlidingWindow::solve() {
+WindowSolveSummary SlidingWindow::solve(int level) {
   WindowSolveSummary out;
   out.num_points = numPoints();
   out.num_keyframes = numKeyframes();
   out.num_residuals = numResiduals();
   if (out.num_residuals == 0) return out;
+  if (options_.native_solver && level == 0 &&
+      options_.differentiation == DifferentiationMode::kAnalytic && !options_.jacobi_scaling) {
+    if (const std::optional<WindowProblem> native = nativeProblem()) return solveNative(*native, out);
+  }
 
   // Elimination order, independent of memory addresses (Ceres orders the blocks within a
   // group by address): points first (group 0, eliminated; their slots make address order

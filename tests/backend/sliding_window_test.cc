@@ -9,35 +9,17 @@
 #include <omnidso/synth/synthetic_sequence.hpp>
 #include <random>
 
-#include "support/rendered_scene.hpp"
+#include "window_test_scenes.hpp"
 
 namespace omnidso {
 namespace {
 
-// A lens-like blur of 1 px: see RenderedScene::render.
-constexpr double kBlurSigmaPx = 1.0;
-
-struct WindowScene {
-  test::RenderedScene scene;
-  std::vector<SE3d> poses;  // ground truth T_world_cam
-  std::vector<std::shared_ptr<const ImagePyramid>> images;
-
-  // Keyframe k at start · exp(motion(k)), motion giving [translation m; rotation deg].
-  template <typename Motion>
-  WindowScene(const Camera& camera, int num_keyframes, Motion motion) : scene(camera, 5) {
-    const SE3d start = scene.centralPose();
-    for (int k = 0; k < num_keyframes; ++k) {
-      const auto [rho, phi_deg] = motion(k);
-      poses.push_back(test::moveInCamera(start, rho, phi_deg));
-      images.push_back(scene.renderPyramid(poses.back(), 5, kBlurSigmaPx));
-    }
-  }
-};
-
-// A short forward-sideways sweep turning by 4° per keyframe (as hand-held odometry sees).
-std::pair<Eigen::Vector3d, Eigen::Vector3d> sweep(int k) {
-  return {{0.06 * k, 0.01 * k, 0.04 * k}, {0.5 * k, 4.0 * k, 0.0}};
-}
+using test::expectSameStateBitForBit;
+using test::groundTruthWindow;
+using test::perturbedWindow;
+using test::recoveryOptions;
+using test::sweep;
+using test::WindowScene;
 
 // Keyframes on a 20 cm circle, looking up to 20° away from the start in every direction.
 // Self-calibration needs rotation about two axes: for small motions a principal-point shift
@@ -48,28 +30,6 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> lookAround(int k) {
   const double phi = 2 * M_PI * k / N;
   return {{0.2 * std::cos(phi) - 0.2, 0.2 * std::sin(phi), 0.04 * k},
           {20.0 * std::sin(phi), 20.0 * std::sin(2 * phi), 0.0}};
-}
-
-// The strongest-gradient valid pixel of every cell × cell block (a simple stand-in for the
-// frontend's pixel selector, which the backend does not depend on).
-std::vector<Eigen::Vector2i> gradientPixels(const ImagePyramid& image, const Mask& mask, int cell) {
-  const ImageGradients& g = image.gradients(0);
-  std::vector<Eigen::Vector2i> out;
-  for (int v0 = 4; v0 + cell < g.dx.height() - 4; v0 += cell)
-    for (int u0 = 4; u0 + cell < g.dx.width() - 4; u0 += cell) {
-      float best = 20.f;  // intensity units per pixel: textured, not flat
-      Eigen::Vector2i arg(-1, -1);
-      for (int v = v0; v < v0 + cell; ++v)
-        for (int u = u0; u < u0 + cell; ++u) {
-          const float m = std::hypot(g.dx(u, v), g.dy(u, v));
-          if (mask(u, v) && m > best) {
-            best = m;
-            arg = {u, v};
-          }
-        }
-      if (arg.x() >= 0) out.push_back(arg);
-    }
-  return out;
 }
 
 struct Errors {
@@ -105,42 +65,6 @@ Errors compare(const SlidingWindow& window, const WindowScene& ws,
   std::nth_element(rel.begin(), rel.begin() + rel.size() / 2, rel.end());
   e.median_inverse_distance_rel = rel[rel.size() / 2];
   return e;
-}
-
-// Window options for recovering a perturbed state. Iterations per level: DSO's 6 suit the
-// odometry, whose estimates arrive nearly right; recovering 2 cm / 1° from scratch takes more.
-WindowOptions recoveryOptions(int num_keyframes, bool optimize_intrinsics) {
-  WindowOptions options;
-  options.max_keyframes = num_keyframes;
-  options.optimize_intrinsics = optimize_intrinsics;
-  // Recovering perturbed intrinsics needs them free: the prior would hold them at the start.
-  options.intrinsics_prior_weight = 0.0;
-  options.max_iterations = 100;
-  return options;
-}
-
-// The window at ground truth: the scene's keyframes, and one point at the strongest-gradient
-// pixel of every cell × cell block of each keyframe with its true inverse distance
-// (returned in true_inverse_distance by point id).
-std::unique_ptr<SlidingWindow> groundTruthWindow(const Camera& camera, const WindowScene& ws,
-                                                 const WindowOptions& options, int cell,
-                                                 std::map<int, double>* true_inverse_distance) {
-  auto window = std::make_unique<SlidingWindow>(camera.modelName(), camera.params(), options);
-  const int num_keyframes = static_cast<int>(ws.poses.size());
-  for (int k = 0; k < num_keyframes; ++k)
-    window->addKeyframe(k, 0.1 * k, 1.0, ws.poses[k], Eigen::Vector2d::Zero(), ws.images[k]);
-  const Mask mask = validityMask(camera);
-  for (int k = 0; k < num_keyframes; ++k) {
-    for (const Eigen::Vector2i& pixel : gradientPixels(*ws.images[k], mask, cell)) {
-      Eigen::Vector3d bearing;
-      if (!camera.unproject(pixel.cast<double>(), bearing)) continue;
-      const auto rho = ws.scene.distance(ws.poses[k], bearing);
-      if (!rho) continue;
-      const int id = window->addPoint(k, pixel.cast<double>(), 1.0 / *rho);
-      if (id >= 0) (*true_inverse_distance)[id] = 1.0 / *rho;
-    }
-  }
-  return window;
 }
 
 // Builds the window at ground truth (5 keyframes of the sweep), then perturbs it: poses of
@@ -213,33 +137,6 @@ TEST(SlidingWindow, OptimizeDropsResidualsInvalidatedByAnEdit) {
       .toParameters(kf.pose.data());
   const WindowSolveSummary summary = window->optimize();
   EXPECT_LT(summary.num_residuals, before);
-}
-// The ground-truth window with every inverse distance off by −10, 0 or +10 % and the newest
-// keyframe moved by 1 cm and 0.5°: the start of the bit-for-bit comparisons below.
-std::unique_ptr<SlidingWindow> perturbedWindow(const Camera& camera, const WindowScene& ws,
-                                               const WindowOptions& options, int num_keyframes) {
-  std::map<int, double> true_d;
-  auto window = groundTruthWindow(camera, ws, options, 24, &true_d);
-  for (const auto& [id, d] : true_d)
-    window->mutablePoint(id).inverse_distance = d * (1.0 + 0.1 * (id % 3 - 1));
-  WindowKeyframe& kf = window->mutableKeyframe(num_keyframes - 1);
-  test::moveInCamera(kf.T_world_cam(), Eigen::Vector3d(0.01, 0, 0), Eigen::Vector3d(0.5, 0, 0))
-      .toParameters(kf.pose.data());
-  return window;
-}
-
-// Keyframes (pose and affine), intrinsics and points equal bit for bit.
-void expectSameStateBitForBit(const SlidingWindow& a, const SlidingWindow& b) {
-  ASSERT_EQ(a.keyframeIds(), b.keyframeIds());
-  for (int id : a.keyframeIds()) {
-    EXPECT_EQ(a.keyframe(id).pose, b.keyframe(id).pose) << "keyframe " << id;
-    EXPECT_EQ(a.keyframe(id).affine, b.keyframe(id).affine) << "keyframe " << id;
-  }
-  EXPECT_EQ(a.intrinsics(), b.intrinsics());
-  ASSERT_EQ(a.numPoints(), b.numPoints());
-  auto it = b.points().begin();
-  for (const auto& [id, point] : a.points())
-    EXPECT_EQ(point->inverse_distance, (it++)->second->inverse_distance) << "point " << id;
 }
 
 // Two windows built from the same data in one process, with unrelated allocations in between

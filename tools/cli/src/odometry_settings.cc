@@ -40,6 +40,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"window.jacobi_scaling", &o.window.jacobi_scaling},
       {"window.reuse_evaluations", &o.window.reuse_evaluations},
       {"window.keep_scale_anchor", &o.window.keep_scale_anchor},
+      {"window.native_solver", &o.window.native_solver},
       {"window.outlier_energy_per_pixel", &o.window.outlier_energy_per_pixel},
       {"window.min_residuals_per_point", &o.window.min_residuals_per_point},
       {"window.huber_threshold", &o.window.huber_threshold},

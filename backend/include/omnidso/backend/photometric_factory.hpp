@@ -12,6 +12,8 @@
 
 namespace omnidso {
 
+class WindowPhotometricTerms;
+
 inline constexpr int kWindowPatternSize = 8;  // DSO's pattern (residual_pattern.hpp)
 using WindowObservation = PhotometricObservation<kWindowPatternSize>;
 
@@ -26,6 +28,9 @@ class PhotometricResidualFactory {
                                         const WindowObservation& observation) const = 0;
   virtual PhotometricStatus status(const WindowObservation& observation,
                                    double const* const* parameters) const = 0;
+
+  // The residuals of this model for the native window solver (window_photometric_terms.hpp).
+  virtual std::shared_ptr<WindowPhotometricTerms> makeWindowTerms() const = 0;
 
   // Unit bearing of a level-0 pixel; false outside the model's image of the sphere.
   virtual bool unproject(const Eigen::VectorXd& intrinsics, const Eigen::Vector2d& pixel,

@@ -47,12 +47,15 @@ class ImageSampler {
     if (interpolation_ == ImageInterpolation::kBilinear) {
       return sampleBilinearWithGradient(*image_, u, v, value, d_du, d_dv, content_);
     }
-    if (!insideBicubicRegion(u, v) || !isContent(u, v)) return false;
-    bicubic_->Evaluate(v, u, value, d_dv, d_du);
-    return true;
+    return sampleBicubicWithGradient(u, v, value, d_du, d_dv);
   }
 
  private:
+  // Out of line (image_sampler.cc): the bilinear path above, which every solver's residual
+  // kernel calls per pattern pixel, then stays small enough to be inlined there.
+  bool sampleBicubicWithGradient(double u, double v, double* value, double* d_du,
+                                 double* d_dv) const;
+
   using Grid = ceres::Grid2D<float, 1>;
   using BiCubic = ceres::BiCubicInterpolator<Grid>;
 

@@ -4,7 +4,9 @@
 //   host pose (7), target pose (7), inverse distance (1), host affine [a, b] (2),
 //   target affine (2), intrinsics (the model's N, level-0 values),
 // computing the N pattern pixels together: the relative transform, its rotation and the
-// camera at the level are formed once per evaluation.
+// camera at the level are formed once per evaluation. The per-pixel computation is
+// photometric_kernel.hpp's, shared with the window's native solver (backend/
+// window_photometric_terms.hpp), which forms the same Jacobians in the tangent space.
 //
 // Jacobians per pattern pixel (g = √w · ∇I_j(p') · ∂π/∂x̃, a 1×3 row; poses perturbed on
 // the right, T ⊞ δ = T exp(δ), δ = [rho; phi]):
