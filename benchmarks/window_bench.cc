@@ -9,6 +9,8 @@
 #include <cmath>
 #include <memory>
 #include <omnidso/backend/sliding_window.hpp>
+
+#include "benchmark_room.hpp"
 #include <omnidso/synth/bearing_table.hpp>
 #include <omnidso/synth/renderer.hpp>
 #include <omnidso/synth/scene.hpp>
@@ -17,32 +19,18 @@
 namespace omnidso {
 namespace {
 
-struct WindowFixture {
-  Camera camera = synth::syntheticCamera("ucm", 185.0, 480, 480);
-  synth::Scene scene = synth::makeRoomScene(synth::RoomSceneConfig{}, 3);
+struct WindowFixture : bench::BenchmarkRoom {
   std::vector<SE3d> poses;
   std::vector<std::shared_ptr<const ImagePyramid>> images;
   std::vector<std::tuple<int, Eigen::Vector2d, double>> points;  // host, pixel, inverse distance
 
   WindowFixture() {
-    const Eigen::VectorXd p = camera.params();
-    synth::PhotometricModel photometric;
-    photometric.noise = false;
-    synth::Renderer renderer(scene, synth::makeBearingTable(camera, 480, 480, 2, p[2], p[3]),
-                             photometric, 2, 3);
-    Eigen::Matrix3d R;
-    R.col(0) = Eigen::Vector3d(0, -1, 0);
-    R.col(1) = Eigen::Vector3d(0, 0, -1);
-    R.col(2) = Eigen::Vector3d(1, 0, 0);
-    const SE3d start(R, scene.freeSpace().centre());
     const Mask mask = validityMask(camera);
     for (int k = 0; k < 7; ++k) {
       Eigen::Matrix<double, 6, 1> xi;
       xi << 0.05 * k, 0.01 * k, 0.03 * k, 0.01 * k, 0.06 * k, 0.0;
       poses.push_back(start * SE3d::exp(xi));
-      ImageF image = renderer.renderRadiance({poses.back()});
-      for (size_t i = 0; i < image.size(); ++i) image.data()[i] *= 200.f;
-      images.push_back(std::make_shared<const ImagePyramid>(image, 5));
+      images.push_back(std::make_shared<const ImagePyramid>(render(poses.back()), 5));
       // ~300 points per keyframe: the strongest gradient of each 16×16 cell.
       const ImageGradients& g = images.back()->gradients(0);
       for (int v0 = 8; v0 + 16 < 472; v0 += 16)
