@@ -91,8 +91,10 @@ WindowSolveSummary SlidingWindow::solveNative(const WindowProblem& problem,
   options.function_tolerance = options_.function_tolerance;
   options.max_solver_time_in_seconds = options_.max_solver_time_s;
   const Stopwatch watch;
-  const WindowSolverSummary s = solveWindow(problem, options);
+  WindowSolverSummary s = solveWindow(problem, options);
   all_residuals_valid_ = false;
+  solved_energies_ = std::move(s.residual_energies);
+  solved_fingerprint_ = solved_energies_.empty() ? std::vector<double>{} : energyFingerprint();
   out.solve_ms = watch.elapsedMs();
   out.iterations = s.iterations;
   out.successful_iterations = s.successful_steps;
@@ -104,6 +106,25 @@ WindowSolveSummary SlidingWindow::solveNative(const WindowProblem& problem,
   out.linear_solver_ms = s.linear_solver_ms;
   out.linear_solver = "NATIVE_DENSE_SCHUR";
   return out;
+}
+
+std::vector<double> SlidingWindow::energyFingerprint() const {
+  std::vector<double> f;
+  f.reserve(10 * keyframes_.size() + 4 * points_.size() + intrinsics_.size());
+  for (const auto& kf : keyframes_) {
+    f.push_back(kf->id);
+    f.insert(f.end(), kf->pose.begin(), kf->pose.end());
+    f.insert(f.end(), kf->affine.begin(), kf->affine.end());
+  }
+  for (const auto& [pid, point] : points_) {
+    f.push_back(pid);
+    f.push_back(point->host_id);
+    f.push_back(point->inverse_distance);
+    f.push_back(static_cast<double>(point->residuals.size()));
+    for (const auto& [target, id] : point->residuals) f.push_back(target);
+  }
+  f.insert(f.end(), intrinsics_.data(), intrinsics_.data() + intrinsics_.size());
+  return f;
 }
 
 }  // namespace omnidso

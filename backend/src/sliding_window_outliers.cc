@@ -9,12 +9,22 @@
 namespace omnidso {
 
 int SlidingWindow::removeResiduals(double max_energy, int min_residuals_per_point) {
+  // The last native solve's energies when nothing has changed since (exactly: the same
+  // values, the same residuals); otherwise one evaluation per residual.
+  std::vector<double> energies;
+  if (!solved_energies_.empty() && solved_fingerprint_ == energyFingerprint())
+    energies = std::move(solved_energies_);
+  solved_energies_.clear();
+  solved_fingerprint_.clear();
   int removed = 0;
+  size_t k = 0;  // nativeProblem's residual order: points by id, then targets
   std::vector<int> weak_points;
   for (auto& [pid, point] : points_) {
-    for (auto it = point->residuals.begin(); it != point->residuals.end();) {
+    for (auto it = point->residuals.begin(); it != point->residuals.end(); ++k) {
       // Every photometric block of the window is an OutOfBoundsPenalty (addResidual).
-      if (rawEnergy(*problem_, it->second) <= max_energy) {
+      const double energy =
+          k < energies.size() ? energies[k] : rawEnergy(*problem_, it->second);
+      if (energy <= max_energy) {
         ++it;
         continue;
       }

@@ -76,11 +76,11 @@ bool WindowPrior::fixed() const {
 }
 
 bool evaluateWindow(const WindowProblem& problem, WindowNormalEquations* equations,
-                    WindowCost* cost) {
+                    WindowCost* cost, std::vector<double>* energies) {
   if (equations)
     equations->reset(problem.frameSpaceSize(), static_cast<int>(problem.points.size()));
   *cost = WindowCost{};
-  cost->variable = problem.photometric->evaluate(problem, equations);
+  cost->variable = problem.photometric->evaluate(problem, equations, energies);
   for (const WindowPrior& prior : problem.priors)
     if (!addPrior(prior, equations, cost)) return false;
   return true;

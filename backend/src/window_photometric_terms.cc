@@ -12,6 +12,7 @@
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/cameras/unified.hpp>
 #include <omnidso/residuals/photometric_kernel.hpp>
+#include <limits>
 #include <utility>
 
 namespace omnidso {
@@ -39,7 +40,8 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   using PairToFrames = Eigen::Matrix<double, kPairIntrinsics, 2 * kFrameTangentSize>;
 
  public:
-  double evaluate(const WindowProblem& problem, WindowNormalEquations* equations) override {
+  double evaluate(const WindowProblem& problem, WindowNormalEquations* equations,
+                  std::vector<double>* energies) override {
     const int num_frames = num_frames_ = static_cast<int>(problem.frames.size());
     typename CameraD::VecN intrinsics = Eigen::Map<const typename CameraD::VecN>(problem.intrinsics);
     scaleIntrinsicsToLevel(intrinsics, 0);  // as the cost function does (level 0)
@@ -76,6 +78,7 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
         Eigen::Matrix<double, kN, 1>::Constant(std::sqrt(problem.out_of_bounds_energy / kN));
     const double invalid_cost = RobustCorrection(problem.photometric_loss, penalty.squaredNorm()).cost();
 
+    if (energies) energies->resize(problem.residuals.size());
     double cost = 0.0;
     Eigen::Matrix<double, kN, 1> r;
     PatchDerivatives<kN, K> patch;
@@ -90,8 +93,10 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
             equations ? &patch : nullptr, want_intrinsics);
         if (status != PhotometricStatus::kValid) {
           cost += invalid_cost;  // and a zero Jacobian: nothing to accumulate
+          if (energies) (*energies)[k] = std::numeric_limits<double>::infinity();
           continue;
         }
+        if (energies) (*energies)[k] = r.squaredNorm();
         const RobustCorrection correction(problem.photometric_loss, r.squaredNorm());
         cost += correction.cost();
         if (equations)

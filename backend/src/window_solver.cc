@@ -47,10 +47,12 @@ WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolver
   // The normal equations at x, and at the candidate x ⊞ δ.
   WindowNormalEquations equations, candidate_equations;
   std::vector<double> start, x;
+  // The residuals' raw energies at x and at the candidate (summary.residual_energies).
+  std::vector<double> energies, candidate_energies;
   state.save(&start);
-  auto evaluate = [&](WindowNormalEquations* at, WindowCost* cost) {
+  auto evaluate = [&](WindowNormalEquations* at, WindowCost* cost, std::vector<double>* e) {
     const Stopwatch watch;
-    const bool ok = evaluateWindow(problem, at, cost);
+    const bool ok = evaluateWindow(problem, at, cost, e);
     summary.evaluation_ms += watch.elapsedMs();
     return ok;
   };
@@ -62,7 +64,7 @@ WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolver
 
   // Iteration 0.
   WindowCost cost;
-  if (!evaluate(&equations, &cost)) {
+  if (!evaluate(&equations, &cost, &energies)) {
     fail("Residual and Jacobian evaluation failed.");
     return summary;
   }
@@ -141,8 +143,8 @@ WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolver
     state.plus(frame_step, point_step);
     const bool linearize_candidate = iteration < options.max_num_iterations;
     WindowCost candidate;
-    bool candidate_linearized =
-        evaluate(linearize_candidate ? &candidate_equations : nullptr, &candidate);
+    bool candidate_linearized = evaluate(linearize_candidate ? &candidate_equations : nullptr,
+                                         &candidate, &candidate_energies);
     const double candidate_cost =
         candidate_linearized ? candidate.variable : std::numeric_limits<double>::max();
     candidate_linearized = candidate_linearized && linearize_candidate;
@@ -173,6 +175,7 @@ WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolver
     if (step_quality > options.min_relative_decrease) {
       x_norm = state.norm();
       x_cost = candidate_cost;
+      std::swap(energies, candidate_energies);
       if (candidate_linearized) {
         std::swap(equations, candidate_equations);
         gradient_max_norm = state.gradientMaxNorm(equations);
@@ -188,6 +191,7 @@ WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolver
     }
   }
 
+  if (summary.usable()) summary.residual_energies = std::move(energies);
   summary.iterations = static_cast<int>(iteration_costs.size()) - 1;
   summary.final_cost = summary.initial_cost;
   for (double c : iteration_costs) summary.final_cost = std::min(summary.final_cost, c);

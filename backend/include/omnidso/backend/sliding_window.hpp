@@ -281,6 +281,13 @@ class SlidingWindow {
   // Every photometric residual evaluates validly at the current state: true after a removal
   // pass, false once a solve or a mutable accessor may have moved the state.
   bool all_residuals_valid_ = false;
+  // The photometric residuals' raw energies left by the last native solve, in nativeProblem's
+  // order, and the state they belong to (energyFingerprint): the outlier pass uses them
+  // instead of evaluating every residual again while the window is as that solve left it.
+  std::vector<double> solved_energies_, solved_fingerprint_;
+  // What those energies depend on that can change: keyframe ids, poses and affine
+  // parameters, point ids, hosts, inverse distances and targets, the intrinsics.
+  std::vector<double> energyFingerprint() const;
   std::vector<MarginalizedPoint> marginalized_points_;
 };
 

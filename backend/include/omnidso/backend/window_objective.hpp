@@ -10,6 +10,7 @@
 // cost the solver's tolerances see.
 
 #include <omnidso/backend/window_problem.hpp>
+#include <vector>
 
 namespace omnidso {
 
@@ -22,9 +23,10 @@ struct WindowCost {
 };
 
 // The cost at the values in the problem's blocks; with `equations` (reset to the problem's
-// sizes here) also the normal equations. False when a prior's cost function fails, as a
+// sizes here) also the normal equations; with `energies` the photometric residuals' raw
+// energies (WindowPhotometricTerms::evaluate). False when a prior's cost function fails, as a
 // failed evaluation in Ceres.
 bool evaluateWindow(const WindowProblem& problem, WindowNormalEquations* equations,
-                    WindowCost* cost);
+                    WindowCost* cost, std::vector<double>* energies = nullptr);
 
 }  // namespace omnidso

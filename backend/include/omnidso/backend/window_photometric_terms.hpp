@@ -28,6 +28,7 @@
 // the linearisation after an accepted step otherwise). Nothing is allocated per residual.
 // Summation order: points by id, targets by keyframe id, pairs by (host, target) index.
 
+#include <vector>
 #include <memory>
 #include <omnidso/backend/window_problem.hpp>
 
@@ -39,8 +40,11 @@ class WindowPhotometricTerms {
  public:
   virtual ~WindowPhotometricTerms() = default;
   // Σ ½ρ(‖r‖²) over problem.residuals at the values in the blocks. With `equations`, also
-  // adds each residual's J̃ᵀJ̃ and J̃ᵀr̃ (robust-corrected) into them.
-  virtual double evaluate(const WindowProblem& problem, WindowNormalEquations* equations) = 0;
+  // adds each residual's J̃ᵀJ̃ and J̃ᵀr̃ (robust-corrected) into them; with `energies`, sets
+  // each residual's raw energy ‖r‖² (no robust loss; +∞ where it is invalid, as
+  // OutOfBoundsPenalty::rawEnergy), in problem.residuals order.
+  virtual double evaluate(const WindowProblem& problem, WindowNormalEquations* equations,
+                          std::vector<double>* energies = nullptr) = 0;
 };
 
 // One instantiation per camera model with a residual kernel (photometric_factory.hpp).

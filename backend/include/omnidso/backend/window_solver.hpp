@@ -39,6 +39,7 @@
 #include <limits>
 #include <omnidso/backend/window_problem.hpp>
 #include <string>
+#include <vector>
 
 namespace omnidso {
 
@@ -69,6 +70,11 @@ struct WindowSolverSummary {
   std::string message;
   double evaluation_ms = 0.0;     // costs and normal equations
   double linear_solver_ms = 0.0;  // Schur complement, Cholesky, back-substitution
+  // The raw energy ‖r‖² of every photometric residual at the returned values
+  // (WindowPhotometricTerms::evaluate; problem.residuals order), from the evaluation that
+  // produced them: the window's outlier pass needs no evaluation of its own. Empty after a
+  // failure (the starting values restored).
+  std::vector<double> residual_energies;
 
   bool usable() const { return termination != WindowTermination::kFailure; }
 };

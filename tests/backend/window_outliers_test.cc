@@ -1,0 +1,136 @@
+// The window's outlier pass after a native solve (sliding_window_outliers.cc): it takes the
+// residuals' raw energies from the solve's last evaluation while the window is as the solve
+// left it, and evaluates again once anything has changed. Oracle: Ceres's evaluation of each
+// residual block (OutOfBoundsPenalty::rawEnergy) at the state the pass sees.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <set>
+#include <omnidso/backend/window_solver.hpp>
+#include <omnidso/residuals/out_of_bounds_penalty.hpp>
+
+#include "window_test_scenes.hpp"
+
+namespace omnidso {
+namespace {
+
+using Residuals = std::set<std::pair<int, int>>;  // (point id, target keyframe id)
+
+constexpr int kNumKeyframes = 4;
+
+const Camera& testCamera() {
+  static const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
+  return camera;
+}
+
+const test::WindowScene& testScene() {
+  static const test::WindowScene scene(testCamera(), kNumKeyframes, test::sweep);
+  return scene;
+}
+
+std::unique_ptr<SlidingWindow> solvedWindow(const WindowOptions& options) {
+  auto window = test::perturbedWindow(testCamera(), testScene(), options, kNumKeyframes);
+  window->optimize();
+  return window;
+}
+
+WindowOptions nativeOptions() {
+  WindowOptions options = test::recoveryOptions(kNumKeyframes, true);
+  options.max_iterations = 2;
+  options.native_solver = true;
+  return options;
+}
+
+// What the pass must leave: residuals whose Ceres raw energy is within the bound, of points
+// left with enough of them.
+Residuals expectedAfterPass(SlidingWindow& window, const WindowOptions& options,
+                            int* num_removed) {
+  const double bound = options.outlier_energy_per_pixel * kWindowPatternSize;
+  Residuals kept;
+  *num_removed = 0;
+  for (const auto& [pid, point] : window.points()) {
+    Residuals of_point;
+    for (const auto& [target, id] : point->residuals) {
+      const double energy = rawEnergy(window.mutableProblem(), id);
+      // The pass's energies agree with these to rounding (above): none may sit on the bound.
+      EXPECT_GT(std::abs(energy - bound), 1e-9 * bound);
+      if (energy <= bound)
+        of_point.insert({pid, target});
+      else
+        ++*num_removed;
+    }
+    if (static_cast<int>(of_point.size()) >= options.min_residuals_per_point)
+      kept.insert(of_point.begin(), of_point.end());
+  }
+  return kept;
+}
+
+Residuals residualsOf(const SlidingWindow& window) {
+  Residuals out;
+  for (const auto& [pid, point] : window.points())
+    for (const auto& [target, id] : point->residuals) out.insert({pid, target});
+  return out;
+}
+
+// The solver's energies are Ceres's raw energies at the values it returns, to rounding: the
+// same kernel, but the native solver unprojects each host pattern once per point and sums in
+// its own order (1e-9 relative: 10⁴ × the rounding of a few hundred operations).
+TEST(WindowOutliers, SolverReturnsCeresRawEnergies) {
+  auto window = test::perturbedWindow(testCamera(), testScene(), nativeOptions(), kNumKeyframes);
+  const std::optional<WindowProblem> native = window->nativeProblem();
+  ASSERT_TRUE(native.has_value());
+  WindowSolverOptions options;
+  options.max_num_iterations = 2;
+  const WindowSolverSummary s = solveWindow(*native, options);
+  ASSERT_TRUE(s.usable()) << s.message;
+  ASSERT_EQ(s.residual_energies.size(), native->residuals.size());
+  size_t k = 0;
+  int invalid = 0;
+  for (const auto& [pid, point] : window->points())
+    for (const auto& [target, id] : point->residuals) {
+      const double ceres = rawEnergy(window->mutableProblem(), id);
+      if (std::isinf(ceres)) {
+        EXPECT_TRUE(std::isinf(s.residual_energies[k])) << "point " << pid << ", target " << target;
+        ++invalid;
+      } else {
+        EXPECT_NEAR(s.residual_energies[k], ceres, 1e-9 * ceres) << "point " << pid << ", target " << target;
+      }
+      ++k;
+    }
+  std::cout << k << " residuals, " << invalid << " invalid\n";
+}
+
+// Right after the solve: the pass removes exactly what Ceres's energies say. The rendered
+// window has no outliers at DSO's bound (12² per pixel), so the bound is lowered to 5 per
+// pixel, inside the spread of the residuals' energies, to make the pass remove some.
+TEST(WindowOutliers, PassAfterANativeSolveRemovesWhatCeresEnergiesSay) {
+  WindowOptions options = nativeOptions();
+  options.outlier_energy_per_pixel = 5.0;
+  auto window = solvedWindow(options);
+  int num_removed = 0;
+  const Residuals expected = expectedAfterPass(*window, options, &num_removed);
+  EXPECT_GT(num_removed, 20);
+  EXPECT_LT(num_removed, window->numResiduals() / 2);
+  EXPECT_EQ(window->removeOutliers(), num_removed);
+  EXPECT_EQ(residualsOf(*window), expected);
+}
+
+// After an edit the solve's energies are stale: turning the newest keyframe by 60° takes
+// many of its observations out of the image, and the pass must see that.
+TEST(WindowOutliers, PassAfterAnEditEvaluatesAgain) {
+  const WindowOptions options = nativeOptions();
+  auto window = solvedWindow(options);
+  const int newest = window->keyframeIds().back();
+  WindowKeyframe& kf = window->mutableKeyframe(newest);
+  test::moveInCamera(kf.T_world_cam(), Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 60, 0))
+      .toParameters(kf.pose.data());
+  int num_removed = 0;
+  const Residuals expected = expectedAfterPass(*window, options, &num_removed);
+  ASSERT_GT(num_removed, 20) << "the edit should invalidate many residuals";
+  EXPECT_EQ(window->removeOutliers(), num_removed);
+  EXPECT_EQ(residualsOf(*window), expected);
+}
+
+}  // namespace
+}  // namespace omnidso
