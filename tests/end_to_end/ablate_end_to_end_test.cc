@@ -108,10 +108,11 @@ TEST(AblateEndToEnd, TwoRenderedSequencesGiveCompleteTablesAndPlotsAndResume) {
   for (const auto& [cell, n] : ok_runs) std::cout << " [" << cell << ": " << n << "]";
   std::cout << "\n";
 
-  // Table I: a row per dataset, RMSE/used/runs/% per camera model.
+  // Table I: a row per dataset, RMSE/used/runs/%/scale drift per camera model.
   const CsvRows t1 = readCsv(out + "/table1_rmse.csv");
   ASSERT_EQ(t1.size(), 3u);
-  EXPECT_EQ(t1[0].size(), 1u + 2u * 4u);
+  EXPECT_EQ(t1[0].size(), 1u + 2u * 5u);
+  EXPECT_EQ(t1[0][5], "native scale_drift_percent");
   EXPECT_EQ(t1[1][0], "room_a");
   EXPECT_EQ(t1[2][0], "room_b");
   const CsvRows t2 = readCsv(out + "/table2_length.csv");
