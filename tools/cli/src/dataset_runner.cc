@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <omnidso/cameras/rectification.hpp>
 #include <thread>
 #include <omnidso/cli/dataset_runner.hpp>
@@ -102,13 +103,9 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
                                               : index.frames.size();
   Stopwatch wall;
   const bool paced = options.odometry.realtime && options.playback_speed > 0.0 && total > 0;
-  const auto start = std::chrono::steady_clock::now();
-  for (size_t i = 0; i < total; ++i) {
+  // Frame i as the odometry takes it (reads only what is const during the loop).
+  auto load = [&](size_t i) {
     const DatasetFrame& frame = index.frames[i];
-    if (paced) {  // the camera's pace: frame i is due at (t_i − t_0) / speed after the start
-      const double due_s = (frame.timestamp_s - index.frames[0].timestamp_s) / options.playback_speed;
-      std::this_thread::sleep_until(start + std::chrono::duration<double>(due_s));
-    }
     RawImage raw;
     try {
       raw = readRawImage(frame.image_path);
@@ -122,6 +119,22 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
                   " (" + frame.index_file + ":" + std::to_string(frame.index_line) + ")");
     ImageF image = photometric.correct(raw);
     if (rectification) image = remap(image, *rectification);
+    return image;
+  };
+  auto request = [&](size_t i) {
+    return std::async(options.prefetch ? std::launch::async : std::launch::deferred, load, i);
+  };
+  std::future<ImageF> next;
+  if (total > 0) next = request(0);
+  const auto start = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < total; ++i) {
+    const DatasetFrame& frame = index.frames[i];
+    if (paced) {  // the camera's pace: frame i is due at (t_i − t_0) / speed after the start
+      const double due_s = (frame.timestamp_s - index.frames[0].timestamp_s) / options.playback_speed;
+      std::this_thread::sleep_until(start + std::chrono::duration<double>(due_s));
+    }
+    const ImageF image = next.get();  // rethrows a read error, naming the frame
+    if (i + 1 < total) next = request(i + 1);
     // Exposure unknown (ASL layout): 1, so that only the affine model explains brightness.
     const double exposure = frame.exposure_ms > 0 ? frame.exposure_ms : 1.0;
     run.odometry->addFrame(image, frame.timestamp_s, exposure);

@@ -42,6 +42,7 @@ struct RunArguments {
   std::vector<std::string> settings;  // NAME=VALUE, applied after --config
   double playback_speed = 1.0;
   bool skip_missing = false;  // drop frames whose images are missing instead of refusing
+  bool no_prefetch = false;
 };
 
 void refuseToOverwrite(const std::string& out, bool force) {
@@ -85,6 +86,7 @@ void runOdometry(const RunArguments& args) {
   o.tracker.num_threads = args.threads;
   o.realtime = args.threads > 1;  // mapping in its own thread (not repeatable bit for bit)
   options.playback_speed = args.playback_speed;
+  options.prefetch = !args.no_prefetch;
   if (!args.config.empty()) applyOdometryConfigFile(o, args.config);
   for (const std::string& s : args.settings) applyOdometrySettingAssignment(o, s);
   refuseToOverwrite(args.out, args.force);  // after every option has been checked
@@ -166,6 +168,9 @@ void registerRunCommand(CLI::App& app) {
   cmd->add_flag("--force", args->force, "write into a non-empty --out");
   cmd->add_flag("--skip-missing", args->skip_missing,
                 "drop the frames whose listed image is missing (default: refuse the dataset)");
+  cmd->add_flag("--no-prefetch", args->no_prefetch,
+                "read each image when it is due instead of the next one while a frame is "
+                "processed (the same trajectory; for timing the odometry alone)");
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--json", args->json, "print the summary as JSON");
   cmd->callback([args] { runOdometry(*args); });
