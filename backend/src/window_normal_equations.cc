@@ -25,6 +25,17 @@ void WindowNormalEquations::reset(int frame_space_size, int num_points) {
   W_.setZero(num_points, frame_space_size);
 }
 
+void WindowNormalEquations::swap(WindowNormalEquations& other) noexcept {
+  H_ff_.swap(other.H_ff_);
+  g_f_.swap(other.g_f_);
+  h_p_.swap(other.h_p_);
+  g_p_.swap(other.g_p_);
+  W_.swap(other.W_);
+  lhs_.swap(other.lhs_);
+  rhs_.swap(other.rhs_);
+  scaled_coupling_.swap(other.scaled_coupling_);
+}
+
 double WindowNormalEquations::dampedPointHessian(int p,
                                                  const LevenbergMarquardtDamping& damping) const {
   return h_p_[p] + squaredLmDiagonal(h_p_[p], damping);

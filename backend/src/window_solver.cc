@@ -177,7 +177,7 @@ WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolver
       x_cost = candidate_cost;
       std::swap(energies, candidate_energies);
       if (candidate_linearized) {
-        std::swap(equations, candidate_equations);
+        equations.swap(candidate_equations);
         gradient_max_norm = state.gradientMaxNorm(equations);
       }  // else the last iteration: the Jacobian there would go unused
       step_successful = true;

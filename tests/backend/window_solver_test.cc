@@ -268,6 +268,36 @@ TEST(WindowSolverStep, SolvesTheDampedNormalEquationsOfCeresJacobian) {
   }
 }
 
+// swap() hands the solver's x and candidate equations to each other: afterwards each
+// object solves for the other's step, bit for bit — also when one of them has never been
+// solved (its Cholesky workspace never computed: std::swap read that uninitialised status,
+// which UBSan reported in `make test-asan-ci`).
+TEST(WindowSolverStep, SwappedEquationsSolveEachOthersStep) {
+  auto window = windowWithPriors(solverOptions(true, true, 2));
+  const std::optional<WindowProblem> native = window->nativeProblem();
+  ASSERT_TRUE(native.has_value());
+  const WindowState state(*native);
+  WindowNormalEquations solved, fresh;
+  WindowCost cost;
+  ASSERT_TRUE(evaluateWindow(*native, &solved, &cost));
+  const LevenbergMarquardtDamping damping{1e4, 1e-6, 1e32};
+  Eigen::VectorXd frame_step, point_step;
+  ASSERT_TRUE(solved.solveStep(state.variables(), damping, &frame_step, &point_step));
+  const int frame_space = solved.frameSpaceSize(), points = solved.numPoints();
+  ASSERT_GT(frame_space, 0);
+  ASSERT_GT(points, 0);
+
+  solved.swap(fresh);
+  EXPECT_EQ(solved.frameSpaceSize(), 0);
+  EXPECT_EQ(solved.numPoints(), 0);
+  ASSERT_EQ(fresh.frameSpaceSize(), frame_space);
+  ASSERT_EQ(fresh.numPoints(), points);
+  Eigen::VectorXd frame_again, point_again;
+  ASSERT_TRUE(fresh.solveStep(state.variables(), damping, &frame_again, &point_again));
+  EXPECT_EQ(frame_again, frame_step);
+  EXPECT_EQ(point_again, point_step);
+}
+
 // The largest differences between two windows' states: pose translation [m] and rotation
 // [rad], affine, relative inverse distance, intrinsics.
 struct StateDifference {

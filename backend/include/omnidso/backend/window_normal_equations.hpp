@@ -45,6 +45,12 @@ class WindowNormalEquations {
   // Zero equations for a frame space of `frame_space_size` coordinates and `num_points`.
   void reset(int frame_space_size, int num_points);
 
+  // Exchanges the equations with `other` (the solver's x and candidate): O(1), the storage
+  // changes hands. The Cholesky workspace stays: a default-constructed Eigen::LLT holds an
+  // uninitialised status, so moving it (std::swap) reads an indeterminate value, which
+  // UBSan reports; compute() rebuilds it on every step anyway.
+  void swap(WindowNormalEquations& other) noexcept;
+
   int frameSpaceSize() const { return static_cast<int>(g_f_.size()); }
   int numPoints() const { return static_cast<int>(h_p_.size()); }
 
