@@ -6,16 +6,6 @@
 #include <omnidso/backend/window_normal_equations.hpp>
 
 namespace omnidso {
-namespace {
-
-// D² of one coordinate: Ceres forms D = √(clamp(diag)/Δ) and its solvers add D·D.
-double squaredLmDiagonal(double diagonal, const LevenbergMarquardtDamping& damping) {
-  const double clamped = std::min(std::max(diagonal, damping.min_diagonal), damping.max_diagonal);
-  const double d = std::sqrt(clamped / damping.radius);
-  return d * d;
-}
-
-}  // namespace
 
 void WindowNormalEquations::reset(int frame_space_size, int num_points) {
   H_ff_.setZero(frame_space_size, frame_space_size);
@@ -38,7 +28,7 @@ void WindowNormalEquations::swap(WindowNormalEquations& other) noexcept {
 
 double WindowNormalEquations::dampedPointHessian(int p,
                                                  const LevenbergMarquardtDamping& damping) const {
-  return h_p_[p] + squaredLmDiagonal(h_p_[p], damping);
+  return h_p_[p] + damping.squaredDiagonal(h_p_[p]);
 }
 
 void WindowNormalEquations::reducedCameraSystem(const WindowVariables& variables,
@@ -51,7 +41,7 @@ void WindowNormalEquations::reducedCameraSystem(const WindowVariables& variables
   rhs->resize(n);
   for (int j = 0; j < n; ++j) {
     for (int i = j; i < n; ++i) (*lhs)(i, j) = H_ff_(columns[i], columns[j]);
-    (*lhs)(j, j) += squaredLmDiagonal(H_ff_(columns[j], columns[j]), damping);
+    (*lhs)(j, j) += damping.squaredDiagonal(H_ff_(columns[j], columns[j]));
     (*rhs)[j] = g_f_[columns[j]];
   }
   // Σ_p w_pᵀ w_p / (h_p + D_p²) as one rank update with ŵ_p = w_p / √(h_p + D_p²).

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <omnidso/backend/trust_region.hpp>
 #include <omnidso/backend/window_normal_equations.hpp>
 #include <omnidso/backend/window_objective.hpp>
 #include <omnidso/backend/window_solver.hpp>
@@ -20,23 +21,6 @@ std::string format(const char* pattern, Args... args) {
   std::snprintf(buffer, sizeof(buffer), pattern, args...);
   return buffer;
 }
-
-// Levenberg–Marquardt's trust region (Ceres's LevenbergMarquardtStrategy): Δ and the
-// factor ν by which the next rejection shrinks it.
-struct TrustRegion {
-  double radius;
-  double decrease_factor = 2.0;
-
-  void stepAccepted(double step_quality, double max_radius) {
-    radius = std::min(max_radius,
-                      radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * step_quality - 1.0, 3)));
-    decrease_factor = 2.0;
-  }
-  void stepRejected() {
-    radius /= decrease_factor;
-    decrease_factor *= 2.0;
-  }
-};
 
 }  // namespace
 

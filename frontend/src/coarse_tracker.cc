@@ -6,9 +6,12 @@
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/frontend/coarse_tracker.hpp>
 #include <omnidso/frontend/model_dispatch.hpp>
+#include <omnidso/frontend/tracker_solver.hpp>
 #include <omnidso/residuals/out_of_bounds_penalty.hpp>
 #include <omnidso/residuals/se3_manifold.hpp>
 #include <omnidso/residuals/tracking_residual.hpp>
+
+#include "tracker_level_residuals.hpp"
 
 namespace omnidso {
 struct CoarseTracker::Impl {
@@ -25,18 +28,16 @@ struct CoarseTracker::Impl {
 
   Impl(const Camera& c, CoarseTrackerOptions o) : camera(c), options(std::move(o)) {}
 
-  struct LevelResult {
-    double rmse = std::numeric_limits<double>::infinity();
-    double valid_fraction = 0.0;
-  };
-
   template <template <typename> class M>
-  LevelResult solveLevel(ModelTag<M>, const M<double>& model, int level, const ImagePyramid& frame,
-                         double frame_exposure, double* pose, double* frame_affine,
-                         bool optimise) const {
+  TrackingLevelSolve solveLevel(ModelTag<M>, const M<double>& model, int level,
+                                const ImagePyramid& frame, double frame_exposure, double* pose,
+                                double* frame_affine, bool optimise) const {
     typename M<double>::VecN params = model.params();
     scaleIntrinsicsToLevel(params, level);
     const M<double> level_model(params);
+    if (options.native_solver)
+      return solveLevelNative(level_model, level, frame, frame_exposure, pose, frame_affine,
+                              optimise);
     std::vector<std::unique_ptr<OutOfBoundsPenalty>> costs;
     costs.reserve(observations[level].size());
     for (TrackingObservation<1> obs : observations[level]) {
@@ -47,6 +48,7 @@ struct CoarseTracker::Impl {
           makeTrackingCost<M, 1>(DifferentiationMode::kAnalytic, level_model, obs),
           kDsoOutlierEnergyPerPixel));
     }
+    int iterations = -1;
     if (optimise && !costs.empty()) {
       ceres::Problem::Options po;
       po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -78,25 +80,55 @@ struct CoarseTracker::Impl {
         so.logging_type = ceres::SILENT;
         ceres::Solver::Summary summary;
         ceres::Solve(so, &problem, &summary);
+        iterations = static_cast<int>(summary.iterations.size()) - 1;
       }
     }
-    // Error of the result: RMS of the (gradient-weighted) residuals that stay valid.
-    LevelResult out;
+    // Error of the result.
     const double* params_ptr[] = {pose, frame_affine};
-    double sum = 0.0;
-    int valid = 0;
-    for (auto& cost : costs) {
-      double residual[2];  // see above
-      if (!cost->inner().Evaluate(params_ptr, residual, nullptr)) continue;
-      const double r = residual[0];
-      // Huber-clamped so that a few outliers do not dominate the error (DSO does the same).
-      const double a = std::abs(r);
-      sum += a <= options.huber_threshold ? r * r
-                                          : options.huber_threshold * (2 * a - options.huber_threshold);
-      ++valid;
+    TrackingLevelSolve out =
+        levelError(static_cast<int>(costs.size()), options.huber_threshold, [&](int i, double* r) {
+          double residual[2];  // see above
+          const bool valid = costs[static_cast<size_t>(i)]->inner().Evaluate(params_ptr, residual,
+                                                                             nullptr);
+          *r = valid ? residual[0] : 0.0;
+          return valid;
+        });
+    out.iterations = iterations;
+    return out;
+  }
+
+  // solveLevel by the native solver (tracker_solver.hpp): the same problem — residuals
+  // valid at the start, the out-of-bounds penalty, Huber, the affine prior about the level's
+  // starting affine, at least 8 residuals — and the same error of the result.
+  template <template <typename> class M>
+  TrackingLevelSolve solveLevelNative(const M<double>& level_model, int level,
+                                      const ImagePyramid& frame, double frame_exposure,
+                                      double* pose, double* frame_affine, bool optimise) const {
+    LevelResiduals<M> residuals(level_model, observations[level], frame.level(level),
+                                frame.content(level), frame_exposure);
+    int iterations = -1;
+    if (optimise && residuals.size() > 0) {
+      TrackerProblem problem;
+      problem.residuals = &residuals;
+      problem.huber_threshold = options.huber_threshold;
+      problem.invalid_residual = std::sqrt(kDsoOutlierEnergyPerPixel);  // one pixel per point
+      problem.affine_prior_mean = Eigen::Vector2d(frame_affine[0], frame_affine[1]);
+      problem.affine_prior_weight_a = options.affine_prior_weight_a;
+      problem.affine_prior_weight_b = options.affine_prior_weight_b;
+      problem.min_residuals = 8;
+      TrackerSolverOptions so;
+      so.max_num_iterations =
+          options.max_iterations[std::min<size_t>(level, options.max_iterations.size() - 1)];
+      so.function_tolerance = options.function_tolerance;
+      const TrackerSolverSummary summary = solveTracker(problem, so, pose, frame_affine);
+      if (summary.termination != TrackerTermination::kNotSolved) iterations = summary.iterations;
     }
-    if (valid > 0) out.rmse = std::sqrt(sum / valid);
-    out.valid_fraction = costs.empty() ? 0.0 : static_cast<double>(valid) / costs.size();
+    residuals.setPoint(pose, frame_affine);
+    TrackingLevelSolve out = levelError(residuals.size(), options.huber_threshold,
+                                        [&](int i, double* r) {
+                                          return residuals.evaluate(i, r, nullptr);
+                                        });
+    out.iterations = iterations;
     return out;
   }
 
@@ -184,6 +216,23 @@ void CoarseTracker::setReference(std::shared_ptr<const ImagePyramid> pyramid, do
   });
 }
 
+TrackingLevelSolve CoarseTracker::solveLevel(const ImagePyramid& frame, double exposure, int level,
+                                             SE3d* T_frame_ref, Eigen::Vector2d* affine) const {
+  if (!hasReference() || level < 0 || level >= static_cast<int>(impl_->observations.size()) ||
+      level >= frame.numLevels())
+    return {};
+  std::array<double, 7> pose;
+  T_frame_ref->toParameters(pose.data());
+  std::array<double, 2> ab = {affine->x(), affine->y()};
+  const TrackingLevelSolve out =
+      withResidualModel<TrackingLevelSolve>(impl_->camera, [&](auto tag, const auto& model) {
+        return impl_->solveLevel(tag, model, level, frame, exposure, pose.data(), ab.data(), true);
+      });
+  *T_frame_ref = SE3d::fromParameters(pose.data());
+  *affine = Eigen::Vector2d(ab[0], ab[1]);
+  return out;
+}
+
 std::vector<SE3d> CoarseTracker::makeHypotheses(const SE3d& T_last_ref,
                                                 const SE3d& velocity) const {
   const SE3d half = SE3d::exp(0.5 * velocity.log());
@@ -223,9 +272,9 @@ TrackingResult CoarseTracker::track(const ImagePyramid& frame, double exposure,
       std::array<double, 2> affine = {affine_guess.x(), affine_guess.y()};
       std::vector<double> level_rmse(levels, std::numeric_limits<double>::infinity());
       bool rejected = false;
-      Impl::LevelResult finest;
+      TrackingLevelSolve finest;
       for (int level = levels - 1; level >= 0; --level) {
-        const Impl::LevelResult r = impl_->solveLevel(tag, model, level, frame, exposure,
+        const TrackingLevelSolve r = impl_->solveLevel(tag, model, level, frame, exposure,
                                                       pose.data(), affine.data(), true);
         level_rmse[level] = r.rmse;
         finest = r;

@@ -13,6 +13,10 @@ template ceres::CostFunction* makePhotometricCost<DoubleSphereCamera, 1>(
 template PhotometricStatus photometricStatus<DoubleSphereCamera, 1>(
     const PhotometricObservation<1>&, double const* const*);
 template class TrackingResidualAnalytic<DoubleSphereCamera, 1>;
+template PhotometricStatus evaluateTrackingResidual<DoubleSphereCamera, 1>(
+    const DoubleSphereCamera<double>&, const TrackingObservation<1>&, const ImageSampler&,
+    const Eigen::Matrix3d&, const Eigen::Vector3d&, const double*, double*,
+    TrackingPoseJacobian<1>*, TrackingAffineJacobian<1>*);
 template ceres::CostFunction* makeTrackingCost<DoubleSphereCamera, 1>(
     DifferentiationMode, const DoubleSphereCamera<double>&, const TrackingObservation<1>&);
 template std::optional<TrackingObservation<1>> makeTrackingObservation<DoubleSphereCamera, 1>(

@@ -13,6 +13,10 @@ template ceres::CostFunction* makePhotometricCost<ExtendedUnifiedCamera, 1>(
 template PhotometricStatus photometricStatus<ExtendedUnifiedCamera, 1>(
     const PhotometricObservation<1>&, double const* const*);
 template class TrackingResidualAnalytic<ExtendedUnifiedCamera, 1>;
+template PhotometricStatus evaluateTrackingResidual<ExtendedUnifiedCamera, 1>(
+    const ExtendedUnifiedCamera<double>&, const TrackingObservation<1>&, const ImageSampler&,
+    const Eigen::Matrix3d&, const Eigen::Vector3d&, const double*, double*,
+    TrackingPoseJacobian<1>*, TrackingAffineJacobian<1>*);
 template ceres::CostFunction* makeTrackingCost<ExtendedUnifiedCamera, 1>(
     DifferentiationMode, const ExtendedUnifiedCamera<double>&, const TrackingObservation<1>&);
 template std::optional<TrackingObservation<1>> makeTrackingObservation<ExtendedUnifiedCamera, 1>(

@@ -13,6 +13,10 @@ template ceres::CostFunction* makePhotometricCost<KannalaBrandtCamera, 1>(
 template PhotometricStatus photometricStatus<KannalaBrandtCamera, 1>(
     const PhotometricObservation<1>&, double const* const*);
 template class TrackingResidualAnalytic<KannalaBrandtCamera, 1>;
+template PhotometricStatus evaluateTrackingResidual<KannalaBrandtCamera, 1>(
+    const KannalaBrandtCamera<double>&, const TrackingObservation<1>&, const ImageSampler&,
+    const Eigen::Matrix3d&, const Eigen::Vector3d&, const double*, double*,
+    TrackingPoseJacobian<1>*, TrackingAffineJacobian<1>*);
 template ceres::CostFunction* makeTrackingCost<KannalaBrandtCamera, 1>(
     DifferentiationMode, const KannalaBrandtCamera<double>&, const TrackingObservation<1>&);
 template std::optional<TrackingObservation<1>> makeTrackingObservation<KannalaBrandtCamera, 1>(

@@ -13,6 +13,10 @@ template ceres::CostFunction* makePhotometricCost<PinholeCamera, 1>(
 template PhotometricStatus photometricStatus<PinholeCamera, 1>(const PhotometricObservation<1>&,
                                                                double const* const*);
 template class TrackingResidualAnalytic<PinholeCamera, 1>;
+template PhotometricStatus evaluateTrackingResidual<PinholeCamera, 1>(
+    const PinholeCamera<double>&, const TrackingObservation<1>&, const ImageSampler&,
+    const Eigen::Matrix3d&, const Eigen::Vector3d&, const double*, double*,
+    TrackingPoseJacobian<1>*, TrackingAffineJacobian<1>*);
 template ceres::CostFunction* makeTrackingCost<PinholeCamera, 1>(DifferentiationMode,
                                                                  const PinholeCamera<double>&,
                                                                  const TrackingObservation<1>&);

@@ -13,6 +13,10 @@ template ceres::CostFunction* makePhotometricCost<UnifiedCamera, 1>(
 template PhotometricStatus photometricStatus<UnifiedCamera, 1>(const PhotometricObservation<1>&,
                                                                double const* const*);
 template class TrackingResidualAnalytic<UnifiedCamera, 1>;
+template PhotometricStatus evaluateTrackingResidual<UnifiedCamera, 1>(
+    const UnifiedCamera<double>&, const TrackingObservation<1>&, const ImageSampler&,
+    const Eigen::Matrix3d&, const Eigen::Vector3d&, const double*, double*,
+    TrackingPoseJacobian<1>*, TrackingAffineJacobian<1>*);
 template ceres::CostFunction* makeTrackingCost<UnifiedCamera, 1>(DifferentiationMode,
                                                                  const UnifiedCamera<double>&,
                                                                  const TrackingObservation<1>&);

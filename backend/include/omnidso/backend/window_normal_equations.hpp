@@ -22,6 +22,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <omnidso/backend/trust_region.hpp>
 #include <vector>
 
 namespace omnidso {
@@ -30,12 +31,6 @@ namespace omnidso {
 struct WindowVariables {
   std::vector<int> frame_columns;   // variable frame-space coordinates, ascending
   std::vector<char> point_variable;  // per point
-};
-
-struct LevenbergMarquardtDamping {
-  double radius = 1e4;         // Δ: Ceres's trust-region radius (μ = 1/Δ)
-  double min_diagonal = 1e-6;  // Ceres's min_lm_diagonal
-  double max_diagonal = 1e32;  // Ceres's max_lm_diagonal
 };
 
 class WindowNormalEquations {

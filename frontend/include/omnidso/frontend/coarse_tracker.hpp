@@ -4,7 +4,8 @@
 // the newest keyframe (pixel + inverse distance), are aligned to the new frame over a
 // 5-level pyramid, estimating the relative pose T_frame_ref and the frame's affine
 // brightness [a, b] with the tracking residual (residuals/tracking_residual.hpp; one pixel
-// per point, as DSO's tracker) in a small Ceres problem per level.
+// per point, as DSO's tracker) in a small Ceres problem per level, or by the native solver
+// (tracker_solver.hpp; CoarseTrackerOptions::native_solver).
 //
 // Coarser levels: the points falling into one coarse pixel are merged (mean inverse
 // distance) — the coarse image averages them too.
@@ -19,6 +20,7 @@
 // translation alone (flow_t) and under the full motion (flow_rt), at level 0.
 
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <omnidso/cameras/camera.hpp>
 #include <omnidso/core/pyramid.hpp>
@@ -53,6 +55,21 @@ struct CoarseTrackerOptions {
   // Weights in energy per unit²; set both to 0 for uncalibrated data (exposure unknown).
   double affine_prior_weight_a = 1e8;
   double affine_prior_weight_b = 1e6;
+  // Solve each level with the native Levenberg–Marquardt solver (tracker_solver.hpp) instead
+  // of a ceres::Problem: the same problem and the same Ceres semantics (trust region, Jacobi
+  // scaling, tolerances), the same result up to rounding, without Ceres's per-frame problem
+  // building and per-residual-block plumbing. Setting `tracker.native_solver`.
+  bool native_solver = false;
+};
+
+// One level's solve (CoarseTracker::solveLevel): the error of the result — RMS of the
+// Huber-clamped residuals still valid — and the solver's iterations (Ceres's
+// summary.iterations.size() − 1; −1 when fewer than 8 residuals were valid and nothing was
+// solved).
+struct TrackingLevelSolve {
+  double rmse = std::numeric_limits<double>::infinity();
+  double valid_fraction = 0.0;
+  int iterations = -1;
 };
 
 struct TrackingResult {
@@ -82,6 +99,11 @@ class CoarseTracker {
   TrackingResult track(const ImagePyramid& frame, double exposure,
                        const std::vector<SE3d>& hypotheses, const Eigen::Vector2d& affine_guess,
                        double previous_rmse) const;
+
+  // One level's solve from T_frame_ref and affine, which move in place (what track() does
+  // per level and hypothesis; for tests comparing the solvers).
+  TrackingLevelSolve solveLevel(const ImagePyramid& frame, double exposure, int level,
+                                SE3d* T_frame_ref, Eigen::Vector2d* affine) const;
 
   // DSO's hypothesis list around a constant-velocity guess (T_last_ref · velocity).
   std::vector<SE3d> makeHypotheses(const SE3d& T_last_ref, const SE3d& velocity) const;

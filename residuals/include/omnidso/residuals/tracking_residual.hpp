@@ -44,6 +44,24 @@ std::optional<TrackingObservation<N>> makeTrackingObservation(const Camera<doubl
                                                               const HostPatch<N>& patch,
                                                               double inverse_distance);
 
+// The kernel of TrackingResidualAnalytic with the pose as [R t] = T_target_host and the target
+// affine [a_j, b_j]: r (N) and, where the pointers are not null, the TANGENT Jacobians
+// ∂r/∂δ (N×6, T ⊞ δ = T exp(δ)) and ∂r/∂[a_j b_j] (N×2) — what Ceres obtains as J_amb · P
+// (se3_manifold.hpp), without the round trip through the ambient 7-vector. For solvers that
+// evaluate many observations at one pose (frontend/tracker_solver.hpp): R is formed once,
+// and one sampler serves all observations of a target image.
+template <int N>
+using TrackingPoseJacobian = Eigen::Matrix<double, N, 6, Eigen::RowMajor>;
+template <int N>
+using TrackingAffineJacobian = Eigen::Matrix<double, N, 2, Eigen::RowMajor>;
+
+template <template <typename> class Camera, int N>
+PhotometricStatus evaluateTrackingResidual(
+    const Camera<double>& level_camera, const TrackingObservation<N>& observation,
+    const ImageSampler& sampler, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+    const double* target_affine, double* residuals, TrackingPoseJacobian<N>* pose_jacobian,
+    TrackingAffineJacobian<N>* affine_jacobian);
+
 template <template <typename> class Camera, int N>
 class TrackingResidualAnalytic : public ceres::SizedCostFunction<N, 7, 2> {
  public:

@@ -44,49 +44,63 @@ bool TrackingResidualAnalytic<Camera, N>::Evaluate(double const* const* paramete
 }
 
 template <template <typename> class Camera, int N>
-PhotometricStatus TrackingResidualAnalytic<Camera, N>::evaluate(double const* const* parameters,
-                                                                double* residuals,
-                                                                double** jacobians) const {
+PhotometricStatus evaluateTrackingResidual(
+    const Camera<double>& level_camera, const TrackingObservation<N>& observation,
+    const ImageSampler& sampler, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+    const double* target_affine, double* residuals, TrackingPoseJacobian<N>* pose_jacobian,
+    TrackingAffineJacobian<N>* affine_jacobian) {
   using CameraD = Camera<double>;
-  const double d = observation_.inverse_distance;
+  const double d = observation.inverse_distance;
   if (!(d >= 0.0)) return PhotometricStatus::kNegativeInverseDistance;
-  const SE3d T_target_host = SE3d::fromParameters(parameters[0]);
-  const Eigen::Matrix3d R = T_target_host.rotationMatrix();
-  const Eigen::Vector3d& t = T_target_host.translation();
-  const double a_j = parameters[1][0], b_j = parameters[1][1];
-  const double s = observation_.target_exposure / observation_.host_exposure *
-                   std::exp(a_j - observation_.host_a);
-  const bool want_pose = jacobians && jacobians[0];
+  const double a_j = target_affine[0], b_j = target_affine[1];
+  const double s = observation.target_exposure / observation.host_exposure *
+                   std::exp(a_j - observation.host_a);
+  const bool want_pose = pose_jacobian != nullptr;
 
   Eigen::Matrix<double, N, 1> r;
-  Eigen::Matrix<double, N, 6, Eigen::RowMajor> J_pose;
-  Eigen::Matrix<double, N, 2, Eigen::RowMajor> J_affine;
   typename CameraD::Mat23 d_uv_d_x;
   for (int o = 0; o < N; ++o) {
-    const Eigen::Vector3d& b = observation_.host_bearings[o];
+    const Eigen::Vector3d& b = observation.host_bearings[o];
     const Eigen::Vector3d x = R * b + d * t;
     typename CameraD::Vec2 uv;
-    if (!camera_.project(x, uv, want_pose ? &d_uv_d_x : nullptr)) {
-      return projectionFailure(camera_, x);
+    if (!level_camera.project(x, uv, want_pose ? &d_uv_d_x : nullptr)) {
+      return projectionFailure(level_camera, x);
     }
     double intensity, di_du, di_dv;
-    if (!sampler_.sampleWithGradient(uv.x(), uv.y(), &intensity, &di_du, &di_dv)) {
+    if (!sampler.sampleWithGradient(uv.x(), uv.y(), &intensity, &di_du, &di_dv)) {
       return PhotometricStatus::kOutsideImage;
     }
-    const double sw = observation_.sqrt_weight[o];
-    const double h = observation_.host_intensity[o] - observation_.host_b;
+    const double sw = observation.sqrt_weight[o];
+    const double h = observation.host_intensity[o] - observation.host_b;
     r[o] = sw * ((intensity - b_j) - s * h);
-    J_affine.row(o) << -sw * s * h, -sw;
+    if (affine_jacobian) affine_jacobian->row(o) << -sw * s * h, -sw;
     if (want_pose) {
       const Eigen::RowVector3d gR = sw * Eigen::RowVector2d(di_du, di_dv) * d_uv_d_x * R;
-      J_pose.row(o) << d * gR, -gR * skew(b);
+      pose_jacobian->row(o) << d * gR, -gR * skew(b);
     }
   }
   Eigen::Map<Eigen::Matrix<double, N, 1>>{residuals} = r;
+  return PhotometricStatus::kValid;
+}
+
+template <template <typename> class Camera, int N>
+PhotometricStatus TrackingResidualAnalytic<Camera, N>::evaluate(double const* const* parameters,
+                                                                double* residuals,
+                                                                double** jacobians) const {
+  const SE3d T_target_host = SE3d::fromParameters(parameters[0]);
+  const bool want_pose = jacobians && jacobians[0];
+  const bool want_affine = jacobians && jacobians[1];
+  TrackingPoseJacobian<N> J_pose;
+  TrackingAffineJacobian<N> J_affine;
+  const PhotometricStatus status = evaluateTrackingResidual<Camera, N>(
+      camera_, observation_, sampler_, T_target_host.rotationMatrix(),
+      T_target_host.translation(), parameters[1], residuals, want_pose ? &J_pose : nullptr,
+      want_affine ? &J_affine : nullptr);
+  if (status != PhotometricStatus::kValid) return status;
   if (want_pose) {
     ambientFromTangentJacobian<N>(se3TangentToAmbient(parameters[0]), J_pose, jacobians[0]);
   }
-  if (jacobians && jacobians[1]) {
+  if (want_affine) {
     Eigen::Map<Eigen::Matrix<double, N, 2, Eigen::RowMajor>>{jacobians[1]} = J_affine;
   }
   return PhotometricStatus::kValid;
