@@ -50,18 +50,19 @@ void Odometry::Impl::map(const MappingJob& job) {
 void Odometry::Impl::makeKeyframe(FrameRecord& record,
                                   std::shared_ptr<const ImagePyramid> pyramid, double exposure,
                                   const SE3d& T_world_frame, const Eigen::Vector2d& affine) {
+  Stopwatch stage;
   window->addKeyframe(record.index, record.timestamp, exposure, T_world_frame, affine, pyramid);
   keyframes[record.index] = {record.index, record.timestamp, segment, T_world_frame};
   // DSO's order: the keyframes to marginalise are chosen once the new keyframe observes the
   // window's points, before activation, and marginalised after the optimisation.
   const std::vector<int> leaving = window->keyframesToMarginalize(options.marginalization);
   activatePoints(record.index, leaving);
-  Stopwatch stage;
+  record.timing.activation_ms = stage.lapMs();
   window->optimize();
   record.timing.window_ms = stage.lapMs();
   window->removeOutliers();
   refreshKeyframeRecords();
-  stage.restart();
+  record.timing.outliers_ms = stage.lapMs();
   for (int id : leaving) {
     window->marginalizeKeyframe(id);
     immature.erase(id);
@@ -70,6 +71,7 @@ void Odometry::Impl::makeKeyframe(FrameRecord& record,
   collectMarginalizedPoints();
   selectImmaturePoints(record.index, *pyramid);
   setTrackingReference(record.index);
+  record.timing.selection_ms = stage.lapMs();
 }
 
 void Odometry::Impl::selectImmaturePoints(int id, const ImagePyramid& pyramid) {

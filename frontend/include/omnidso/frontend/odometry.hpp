@@ -67,12 +67,17 @@ struct FrameTiming {
   double tracking_ms = 0.0;  // direct image alignment and the keyframe decision
   double search_ms = 0.0;    // epipolar-curve search of the immature points (DSO does it in
                              // its mapping thread; here it runs after tracking)
-  // Keyframes only: everything done for the keyframe (activation, window, outliers,
-  // marginalisation, new immature points, new tracking reference); of it, the window
-  // optimisation and the marginalisation on their own.
+  // Keyframes only: everything done for the keyframe (mapping_ms), and its stages in order:
+  // entering the window and activating candidates (activation_ms), the window optimisation,
+  // outlier removal (outliers_ms), the marginalisation, and the new keyframe's candidates
+  // and tracking reference (selection_ms). The stages sum to mapping_ms up to the
+  // stopwatches' own cost.
   double mapping_ms = 0.0;
+  double activation_ms = 0.0;
   double window_ms = 0.0;
+  double outliers_ms = 0.0;
   double marginalization_ms = 0.0;
+  double selection_ms = 0.0;
 };
 
 struct FrameRecord {

@@ -5,7 +5,8 @@
 //                              estimate of its reference keyframe)
 //   points.ply                 ASCII PLY: x y z intensity segment (marginalised + active)
 //   timing.csv                 frame,timestamp,tracked,keyframe,segment,tracking_ms,
-//                              search_ms,mapping_ms,window_ms,marginalization_ms
+//                              search_ms,mapping_ms,window_ms,marginalization_ms,
+//                              activation_ms,outliers_ms,selection_ms (FrameTiming)
 //   summary.json               settings, counts, timing statistics, segments and events,
 //                              and — with ground truth — ATE after Sim(3) alignment per segment
 // Trajectory segments (after a tracking loss) have separate gauges; each is evaluated on its
