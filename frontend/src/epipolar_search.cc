@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <omnidso/core/interpolation.hpp>
 #include <omnidso/frontend/epipolar_search.hpp>
@@ -91,19 +92,50 @@ struct PatternEnergy {
   bool valid = false;
 };
 
-PatternEnergy patternEnergy(const ImmaturePoint& point, const ImageF& target,
+// The host pattern's intensities as the target should see them, a I_i[p + o] + b (eq. 5):
+// the same for every step of one trace.
+using ExpectedIntensities = std::array<double, kImmaturePatternSize>;
+
+ExpectedIntensities expectedIntensities(const ImmaturePoint& point, const AffineTransfer& affine) {
+  ExpectedIntensities expected;
+  for (int i = 0; i < kImmaturePatternSize; ++i)
+    expected[i] = affine.a * point.host_intensity[i] + affine.b;
+  return expected;
+}
+
+PatternEnergy patternEnergy(const ExpectedIntensities& expected, const ImageF& target,
                             const Eigen::Vector2d& u, const Eigen::Matrix2d& pattern_map,
-                            const AffineTransfer& affine, double huber, const Mask* content) {
+                            double huber, const Mask* content) {
   PatternEnergy e;
   for (int i = 0; i < kImmaturePatternSize; ++i) {
     const Eigen::Vector2d o(Pattern::kOffsets[i].du, Pattern::kOffsets[i].dv);
     const Eigen::Vector2d q = u + pattern_map * o;
     double value;
     if (!sampleBilinear(target, q.x(), q.y(), &value, content)) return e;
-    e.energy += huberEnergy(value - (affine.a * point.host_intensity[i] + affine.b), huber);
+    e.energy += huberEnergy(value - expected[i], huber);
   }
   e.valid = true;
   return e;
+}
+
+// Value and image gradient at (u, v) from one bilinear cell (sampleBilinear's formula on the
+// image and on its two gradient images); false where sampleBilinear of the image is false.
+bool sampleWithGradients(const ImageF& image, const ImageGradients& gradients, double u, double v,
+                         const Mask* content, double* value, double* gx, double* gy) {
+  BilinearCell c;
+  if (!bilinearCell(image.width(), image.height(), u, v, &c)) return false;
+  if (!cellIsContent(content, c)) return false;
+  const double fu = u - static_cast<double>(c.u0);
+  const double fv = v - static_cast<double>(c.v0);
+  const auto at = [&](const ImageF& img) {
+    const double i00 = img(c.u0, c.v0), i10 = img(c.u1, c.v0);
+    const double i01 = img(c.u0, c.v1), i11 = img(c.u1, c.v1);
+    return (1.0 - fv) * ((1.0 - fu) * i00 + fu * i10) + fv * ((1.0 - fu) * i01 + fu * i11);
+  };
+  *value = at(image);
+  *gx = at(gradients.dx);
+  *gy = at(gradients.dy);
+  return true;
 }
 
 template <typename Model>
@@ -120,11 +152,14 @@ TraceResult trace(const Model& model, ImmaturePoint& point, const SE3d& T_target
   };
   if (curve.degenerate()) return finish(TraceStatus::kSkipped);
 
-  // Walk from the far end, one pixel per step, skipping segments outside the domain.
+  // Walk from the far end, one pixel per step, skipping segments outside the domain. The
+  // steps' buffer is kept per thread: a trace runs for every candidate in every frame.
   struct Step {
     double s, path_px, energy;
   };
-  std::vector<Step> steps;
+  thread_local std::vector<Step> steps;
+  steps.clear();
+  const ExpectedIntensities expected = expectedIntensities(point, affine);
   typename EpipolarCurve<Model>::Sample sample;
   double s = 0.0, path = 0.0;
   int domain_skips = 0;
@@ -138,8 +173,8 @@ TraceResult trace(const Model& model, ImmaturePoint& point, const SE3d& T_target
     }
     const double speed = sample.du_ds.norm();  // pixels per unit s
     if (!(speed > 1e-9)) break;
-    const PatternEnergy e = patternEnergy(point, target, sample.u, sample.pattern_map, affine,
-                                          options.huber, content);
+    const PatternEnergy e =
+        patternEnergy(expected, target, sample.u, sample.pattern_map, options.huber, content);
     if (e.valid) steps.push_back({s, path, e.energy});
     const double ds = 1.0 / speed;
     if (steps.empty() && s == 0.0) total_curve_px = speed;  // first-order length of the curve
@@ -173,11 +208,9 @@ TraceResult trace(const Model& model, ImmaturePoint& point, const SE3d& T_target
       const Eigen::Vector2d o(Pattern::kOffsets[i].du, Pattern::kOffsets[i].dv);
       const Eigen::Vector2d q = sample.u + sample.pattern_map * o;
       double value, gx, gy;
-      ok = sampleBilinear(target, q.x(), q.y(), &value, content) &&
-           sampleBilinear(gradients.dx, q.x(), q.y(), &gx) &&
-           sampleBilinear(gradients.dy, q.x(), q.y(), &gy);
+      ok = sampleWithGradients(target, gradients, q.x(), q.y(), content, &value, &gx, &gy);
       if (!ok) break;
-      const double r = value - (affine.a * point.host_intensity[i] + affine.b);
+      const double r = value - expected[i];
       const double J = gx * sample.du_ds.x() + gy * sample.du_ds.y();
       const double w = huberWeight(r, options.huber);
       H += w * J * J;
