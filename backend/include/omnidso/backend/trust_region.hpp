@@ -30,6 +30,22 @@ struct TrustRegion {
   }
 };
 
+// The options both native solvers share, with Ceres 2.1's names and defaults
+// (Solver::Options); each solver's options add what only it has.
+struct LevenbergMarquardtOptions {
+  int max_num_iterations = 50;
+  double function_tolerance = 1e-6;
+  double gradient_tolerance = 1e-10;
+  double parameter_tolerance = 1e-8;
+  double initial_trust_region_radius = 1e4;
+  double max_trust_region_radius = 1e16;
+  double min_trust_region_radius = 1e-32;
+  double min_relative_decrease = 1e-3;
+  double min_lm_diagonal = 1e-6;
+  double max_lm_diagonal = 1e32;
+  int max_num_consecutive_invalid_steps = 5;
+};
+
 struct LevenbergMarquardtDamping {
   double radius = 1e4;         // Δ: Ceres's trust-region radius (μ = 1/Δ)
   double min_diagonal = 1e-6;  // Ceres's min_lm_diagonal

@@ -37,25 +37,16 @@
 // levels with Ceres).
 
 #include <limits>
+#include <omnidso/backend/trust_region.hpp>
 #include <omnidso/backend/window_problem.hpp>
 #include <string>
 #include <vector>
 
 namespace omnidso {
 
-struct WindowSolverOptions {  // Ceres's names and defaults
-  int max_num_iterations = 2;
-  double function_tolerance = 1e-6;
-  double gradient_tolerance = 1e-10;
-  double parameter_tolerance = 1e-8;
+struct WindowSolverOptions : LevenbergMarquardtOptions {  // Ceres's names and defaults
+  WindowSolverOptions() { max_num_iterations = 2; }  // the window's (SlidingWindowOptions)
   double max_solver_time_in_seconds = 1e9;
-  double initial_trust_region_radius = 1e4;
-  double max_trust_region_radius = 1e16;
-  double min_trust_region_radius = 1e-32;
-  double min_relative_decrease = 1e-3;
-  double min_lm_diagonal = 1e-6;
-  double max_lm_diagonal = 1e32;
-  int max_num_consecutive_invalid_steps = 5;
 };
 
 enum class WindowTermination { kConvergence, kNoConvergence, kFailure };

@@ -39,6 +39,7 @@
 // no allocation per iteration.
 
 #include <Eigen/Core>
+#include <omnidso/backend/trust_region.hpp>
 
 namespace omnidso {
 
@@ -66,18 +67,7 @@ struct TrackerProblem {
   int min_residuals = 8;
 };
 
-struct TrackerSolverOptions {  // Ceres's names and defaults
-  int max_num_iterations = 50;
-  double function_tolerance = 1e-6;
-  double gradient_tolerance = 1e-10;
-  double parameter_tolerance = 1e-8;
-  double initial_trust_region_radius = 1e4;
-  double max_trust_region_radius = 1e16;
-  double min_trust_region_radius = 1e-32;
-  double min_relative_decrease = 1e-3;
-  double min_lm_diagonal = 1e-6;
-  double max_lm_diagonal = 1e32;
-  int max_num_consecutive_invalid_steps = 5;
+struct TrackerSolverOptions : LevenbergMarquardtOptions {  // Ceres's names and defaults
   bool jacobi_scaling = true;
 };
 
