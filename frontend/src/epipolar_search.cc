@@ -118,8 +118,8 @@ PatternEnergy patternEnergy(const ExpectedIntensities& expected, const ImageF& t
   return e;
 }
 
-// Value and image gradient at (u, v) from one bilinear cell (sampleBilinear's formula on the
-// image and on its two gradient images); false where sampleBilinear of the image is false.
+// Value and image gradient at (u, v) from one bilinear cell (sampleBilinear on the image and
+// on its two gradient images); false where sampleBilinear of the image is false.
 bool sampleWithGradients(const ImageF& image, const ImageGradients& gradients, double u, double v,
                          const Mask* content, double* value, double* gx, double* gy) {
   BilinearCell c;
@@ -127,14 +127,9 @@ bool sampleWithGradients(const ImageF& image, const ImageGradients& gradients, d
   if (!cellIsContent(content, c)) return false;
   const double fu = u - static_cast<double>(c.u0);
   const double fv = v - static_cast<double>(c.v0);
-  const auto at = [&](const ImageF& img) {
-    const double i00 = img(c.u0, c.v0), i10 = img(c.u1, c.v0);
-    const double i01 = img(c.u0, c.v1), i11 = img(c.u1, c.v1);
-    return (1.0 - fv) * ((1.0 - fu) * i00 + fu * i10) + fv * ((1.0 - fu) * i01 + fu * i11);
-  };
-  *value = at(image);
-  *gx = at(gradients.dx);
-  *gy = at(gradients.dy);
+  *value = bilinearBlend(image, c, fu, fv);
+  *gx = bilinearBlend(gradients.dx, c, fu, fv);
+  *gy = bilinearBlend(gradients.dy, c, fu, fv);
   return true;
 }
 

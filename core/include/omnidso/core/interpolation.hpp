@@ -62,6 +62,19 @@ inline bool cellIsContent(const Mask* content, const BilinearCell& c) {
   return m(c.u0, c.v0) != 0 && m(c.u1, c.v0) != 0 && m(c.u0, c.v1) != 0 && m(c.u1, c.v1) != 0;
 }
 
+// The bilinear blend of image `img` over cell `c` at fractions (fu, fv) of the cell:
+// (1 − fv)((1 − fu) I00 + fu I10) + fv((1 − fu) I01 + fu I11). Several images sampled at one
+// point (an image and its gradient images) share the cell and the fractions.
+template <typename T>
+T bilinearBlend(const ImageF& img, const BilinearCell& c, const T& fu, const T& fv) {
+  const T i00 = T(static_cast<double>(img(c.u0, c.v0)));
+  const T i10 = T(static_cast<double>(img(c.u1, c.v0)));
+  const T i01 = T(static_cast<double>(img(c.u0, c.v1)));
+  const T i11 = T(static_cast<double>(img(c.u1, c.v1)));
+  const T one(1.0);
+  return (one - fv) * ((one - fu) * i00 + fu * i10) + fv * ((one - fu) * i01 + fu * i11);
+}
+
 // Bilinear value at (u, v); false (value untouched) outside the image, for non-finite
 // coordinates, or where the footprint leaves `content` (optional, image-sized). For
 // T = ceres::Jet the derivative parts follow the formula above.
@@ -73,12 +86,7 @@ bool sampleBilinear(const ImageF& img, const T& u, const T& v, T* value,
   if (!cellIsContent(content, c)) return false;
   const T fu = u - T(static_cast<double>(c.u0));
   const T fv = v - T(static_cast<double>(c.v0));
-  const T i00 = T(static_cast<double>(img(c.u0, c.v0)));
-  const T i10 = T(static_cast<double>(img(c.u1, c.v0)));
-  const T i01 = T(static_cast<double>(img(c.u0, c.v1)));
-  const T i11 = T(static_cast<double>(img(c.u1, c.v1)));
-  const T one(1.0);
-  *value = (one - fv) * ((one - fu) * i00 + fu * i10) + fv * ((one - fu) * i01 + fu * i11);
+  *value = bilinearBlend(img, c, fu, fv);
   return true;
 }
 
