@@ -128,5 +128,35 @@ BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Native_2it, DifferentiationMode::kA
     ->Unit(benchmark::kMillisecond)
     ->Iterations(5);
 
+// Marginalising the oldest keyframe of that window after its 2-iteration solve (the
+// odometry's step, sliding_window_marginalization.cc): its points and those the two newest
+// keyframes do not observe go into the prior, then its pose and affine blocks.
+void BM_MarginalizeOldestKeyframe(benchmark::State& state) {
+  const WindowFixture& f = fixture();
+  int marginalized_points = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    WindowOptions options;
+    options.max_keyframes = 7;
+    options.max_iterations = 2;
+    auto window = std::make_unique<SlidingWindow>(f.camera.modelName(), f.camera.params(), options);
+    for (int k = 0; k < 7; ++k)
+      window->addKeyframe(k, 0.05 * k, 1.0, f.poses[k], Eigen::Vector2d::Zero(), f.images[k]);
+    int added = 0;
+    for (const auto& [host, pixel, d] : f.points)
+      if (added < 2000 && window->addPoint(host, pixel, d * 1.05) >= 0) ++added;
+    window->optimize();
+    const int points_before = window->numPoints();
+    state.ResumeTiming();
+    window->marginalizeKeyframe(0);
+    state.PauseTiming();
+    marginalized_points = points_before - window->numPoints();
+    window.reset();
+    state.ResumeTiming();
+  }
+  state.counters["points_out"] = marginalized_points;
+}
+BENCHMARK(BM_MarginalizeOldestKeyframe)->Unit(benchmark::kMillisecond)->Iterations(10);
+
 }  // namespace
 }  // namespace omnidso
