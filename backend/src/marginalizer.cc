@@ -145,6 +145,12 @@ Eigen::SparseMatrix<double> blockPseudoInverse(const Eigen::SparseMatrix<double>
   for (const std::vector<int>& group : groups) {
     if (group.empty()) continue;
     const int n = static_cast<int>(group.size());
+    if (n == 1) {  // a point's inverse distance: pseudoInverse's result, without the solver
+      const double h = H_mm.coeff(group[0], group[0]);
+      if (h > 0.0 && h > relative_threshold * h)
+        triplets.emplace_back(group[0], group[0], 1.0 / h);
+      continue;
+    }
     Eigen::MatrixXd block(n, n);
     for (int a = 0; a < n; ++a)
       for (int b = 0; b < n; ++b) block(a, b) = H_mm.coeff(group[a], group[b]);
