@@ -177,7 +177,11 @@ TraceResult trace(const Model& model, ImmaturePoint& point, const SE3d& T_target
     path += 1.0;
   }
   result.steps = static_cast<int>(steps.size());
-  // A curve shorter than the converged length: nothing left to search.
+  // A curve shorter than the converged length: nothing left to search. As written this
+  // fires only when the first step's pattern left the image (total_curve_px is recorded
+  // only then); a converged interval is otherwise searched again. Skipping every converged
+  // interval before the walk, as DSO does, was measured twice and not kept: D3's crop
+  // worse over five seeds (docs/performance.md, "The search's converged intervals").
   if (total_curve_px > 0.0 && total_curve_px < options.converged_px &&
       point.last_status != TraceStatus::kUninitialized)
     return finish(TraceStatus::kSkipped);

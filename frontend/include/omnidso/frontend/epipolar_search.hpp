@@ -34,7 +34,7 @@ inline constexpr int kImmaturePatternSize = 8;
 enum class TraceStatus {
   kUninitialized,  // never traced
   kGood,           // matched; interval updated
-  kSkipped,        // the interval projects to less than `converged_px`: nothing to search
+  kSkipped,        // nothing to search: no translation, or a curve under `converged_px` (see trace)
   kOutOfBounds,    // no valid step on the curve (outside the image or the model's domain)
   kOutlier,        // best energy above the outlier threshold
   kBadCondition,   // ambiguous: best not clearly better than the second best
