@@ -5,6 +5,8 @@
 //     (tests/support/reference_selection.hpp, the same output), for a side-by-side ratio.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
+
 #include <omnidso/frontend/pixel_selector.hpp>
 #include <omnidso/synth/synthetic_sequence.hpp>
 
@@ -33,8 +35,27 @@ void BM_SelectPixels(benchmark::State& state) { runSelection(state, selectPixels
 void BM_SelectPixelsReference(benchmark::State& state) {
   runSelection(state, reference::selectPixels);
 }
+// Step 1 alone: the block medians of ‖∇I‖ (a quarter of a selection before the radix select).
+template <typename ThresholdMap>
+void runThresholds(benchmark::State& state, const ThresholdMap& thresholds) {
+  const bench::BenchmarkRoom room;
+  const ImagePyramid pyramid(room.render(room.start), 4);
+  const Mask mask = validityMask(room.camera);
+  const ImageGradients& g = pyramid.gradients(0);
+  Image<float> norm(g.dx.width(), g.dx.height());
+  for (size_t i = 0; i < norm.size(); ++i)
+    norm.data()[i] = std::sqrt(g.dx.data()[i] * g.dx.data()[i] + g.dy.data()[i] * g.dy.data()[i]);
+  for (auto _ : state) benchmark::DoNotOptimize(thresholds(norm, mask, 32, 7.0).data());
+}
+void BM_ThresholdMap(benchmark::State& state) { runThresholds(state, gradientThresholdMap); }
+void BM_ThresholdMapReference(benchmark::State& state) {
+  runThresholds(state, reference::gradientThresholdMap);
+}
+
 BENCHMARK(BM_SelectPixels)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SelectPixelsReference)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ThresholdMap)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ThresholdMapReference)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace omnidso

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <omnidso/core/error.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
 #include <random>
@@ -212,6 +213,55 @@ class Selector {
   std::vector<int> columns_[3], rows_[3];
 };
 
+// The k-th smallest of `values` (0-based): the value std::nth_element puts at position k.
+// Gradient norms are non-negative floats, whose order is that of their bit patterns read as
+// unsigned integers, so the value is found by a radix select on those patterns, 8 bits at a
+// time from the top: each pass counts the candidates' next byte, keeps those whose byte holds
+// rank k and so fixes that byte of the answer — counting only, no comparisons to mispredict,
+// and the candidates shrink fast (the medians took a quarter of a selection with
+// nth_element). The answer is the bit pattern of the k-th smallest, so the same float bits.
+// A NaN or negative value (−0 included: its pattern sorts last but it equals +0) is outside
+// that order and goes to std::nth_element.
+float kthSmallest(std::vector<float>& values, size_t k, std::vector<std::uint32_t>& keys) {
+  keys.resize(values.size());
+  std::memcpy(keys.data(), values.data(), values.size() * sizeof(float));
+  bool ordered = true;
+  for (std::uint32_t key : keys) ordered &= key <= 0x7f800000u;  // +0 .. +∞
+  if (!ordered) {
+    std::nth_element(values.begin(), values.begin() + static_cast<long>(k), values.end());
+    return values[k];
+  }
+  // The top byte over all keys, counted into 4 histograms in turn: the keys share few top
+  // bytes (the exponent), and one histogram would make each count wait for the previous.
+  std::uint32_t count[4][256] = {};
+  const size_t n = keys.size();
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4)
+    for (int j = 0; j < 4; ++j) ++count[j][keys[i + j] >> 24];
+  for (; i < n; ++i) ++count[0][keys[i] >> 24];
+  for (int b = 0; b < 256; ++b) count[0][b] += count[1][b] + count[2][b] + count[3][b];
+  std::uint32_t answer = 0;
+  for (int shift = 24;; shift -= 8) {
+    unsigned byte = 0;
+    while (k >= count[0][byte]) k -= count[0][byte++];
+    answer |= static_cast<std::uint32_t>(byte) << shift;
+    if (shift == 0) break;
+    // Keep the candidates whose byte is `byte` (their higher bytes agree already), without a
+    // branch (whether a key matches is a coin toss to the predictor), then count their next byte.
+    size_t kept = 0;
+    for (std::uint32_t key : keys) {
+      keys[kept] = key;
+      kept += ((key >> shift) & 0xffu) == byte;
+    }
+    keys.resize(kept);
+    std::fill(count[0], count[0] + 256, 0u);
+    for (std::uint32_t key : keys) ++count[0][(key >> (shift - 8)) & 0xffu];
+  }
+  float out;
+  std::memcpy(&out, &answer, sizeof(out));
+  return out;
+}
+
 }  // namespace
 
 Image<float> gradientThresholdMap(const Image<float>& gradient_norm, const Mask& mask,
@@ -221,6 +271,7 @@ Image<float> gradientThresholdMap(const Image<float>& gradient_norm, const Mask&
   Image<float> raw(bw, bh, 0.f);
   Image<std::uint8_t> has(bw, bh, 0);
   std::vector<float> values;
+  std::vector<std::uint32_t> keys;
   values.reserve(static_cast<size_t>(block_size) * block_size);
   for (int by = 0; by < bh; ++by)
     for (int bx = 0; bx < bw; ++bx) {
@@ -237,8 +288,7 @@ Image<float> gradientThresholdMap(const Image<float>& gradient_norm, const Mask&
           if (valid[u]) values.push_back(norm[u]);
       }
       if (values.empty()) continue;
-      std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-      raw(bx, by) = values[values.size() / 2];
+      raw(bx, by) = kthSmallest(values, values.size() / 2, keys);
       has(bx, by) = 1;
     }
   // Smooth over the 3×3 neighbourhood of blocks that have valid pixels.

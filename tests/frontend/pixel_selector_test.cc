@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 #include <random>
 #include <set>
 #include <omnidso/core/error.hpp>
@@ -150,6 +151,35 @@ TEST(PixelSelector, SelectsBitIdenticallyToTheReferenceOnOddSizesAndFewLevels) {
   expectSameSelection(ImagePyramid(crop, 2), Mask(), options, "301x263, 2 levels");
   expectSameSelection(ImagePyramid(crop, 1), withScatteredHoles(mask, 0.01, 3), options,
                       "301x263, 1 level");
+}
+
+// The block medians are found by a radix select on the float bits, not nth_element: the same
+// bits on gradient norms (ties, zeros, denormals, +∞, blocks cut by the image edge and the
+// mask), and — through its fallback — on values outside that order (negative, −0).
+TEST(PixelSelector, ThresholdMapBitIdenticalToTheReference) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<float> value(0.0f, 300.0f);
+  std::uniform_int_distribution<int> pick(0, 99);
+  const float specials[] = {0.0f, 1e-40f, 7.0f, std::numeric_limits<float>::infinity()};
+  for (const bool unordered : {false, true}) {
+    Image<float> norm(203, 150);
+    for (size_t i = 0; i < norm.size(); ++i) {
+      const int p = pick(rng);
+      norm.data()[i] = p < 20 ? specials[p % 4] : std::round(value(rng) * (p < 50 ? 1 : 64)) / 64;
+      if (unordered && p == 99) norm.data()[i] = -0.0f;
+      if (unordered && p == 98) norm.data()[i] = -3.0f;
+    }
+    const Mask holes = withScatteredHoles(Mask(203, 150, 255), 0.3, 5);
+    for (const Mask& mask : {Mask(), holes})
+      for (int block : {32, 7}) {
+        const Image<float> fast = gradientThresholdMap(norm, mask, block, 7.0);
+        const Image<float> slow = reference::gradientThresholdMap(norm, mask, block, 7.0);
+        ASSERT_EQ(fast.width(), slow.width());
+        ASSERT_EQ(fast.height(), slow.height());
+        EXPECT_EQ(std::memcmp(fast.data(), slow.data(), fast.size() * sizeof(float)), 0)
+            << "block " << block << ", mask " << !mask.empty() << ", unordered " << unordered;
+      }
+  }
 }
 
 TEST(PixelSelector, MaskOfAnotherSizeIsAnError) {
