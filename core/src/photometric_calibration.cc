@@ -43,6 +43,21 @@ bool parseNumber(const std::string& token, double* value) {
   return end != begin && *end == '\0' && std::isfinite(*value);
 }
 
+// energy = G⁻¹(raw)/V per pixel (0 where V = 0), in double as always, then to float. One loop
+// per kind of lookup, so that none branches per pixel on the bit depth.
+template <typename InverseResponseOf>
+void correctPixels(const std::uint16_t* raw, std::size_t n, const float* vignette, float* out,
+                   const InverseResponseOf& inverse) {
+  if (!vignette) {
+    for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<float>(inverse(raw[i]));
+    return;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = vignette[i];
+    out[i] = static_cast<float>(v > 0.0 ? inverse(raw[i]) / v : 0.0);
+  }
+}
+
 }  // namespace
 
 InverseResponse identityInverseResponse() {
@@ -125,7 +140,9 @@ void writeVignette(const std::string& path, const ImageF& vignette) {
 }
 
 PhotometricCalibration::PhotometricCalibration()
-    : inverse_response_(identityInverseResponse()), vignette_source_("vignette") {}
+    : inverse_response_(identityInverseResponse()), vignette_source_("vignette") {
+  tabulateValues();
+}
 
 PhotometricCalibration::PhotometricCalibration(const InverseResponse& inverse_response,
                                                ImageF vignette, std::string vignette_source)
@@ -133,6 +150,11 @@ PhotometricCalibration::PhotometricCalibration(const InverseResponse& inverse_re
       vignette_(std::move(vignette)),
       vignette_source_(std::move(vignette_source)) {
   checkInverseResponse(inverse_response_, "PhotometricCalibration");
+  tabulateValues();
+}
+
+void PhotometricCalibration::tabulateValues() {
+  for (int k = 0; k < kResponseSize; ++k) at_values_[k] = inverseResponse(k);
 }
 
 PhotometricCalibration PhotometricCalibration::fromFiles(const std::string& pcalib_path,
@@ -176,16 +198,35 @@ ImageF PhotometricCalibration::correct(const RawImage& raw) const {
                 std::to_string(raw.bit_depth) + " (8 or 16)");
   }
   checkImageSize(raw.pixels.width(), raw.pixels.height());
-  // 16-bit values span 0..65535 = 257 · 255, so value/257 lands on the 8-bit scale.
-  const double to_table = raw.bit_depth == 16 ? 1.0 / 257.0 : 1.0;
+  // G⁻¹ is a function of the raw value alone, so it is read from a table per raw value whose
+  // entries are inverseResponse() itself — bit-identical to evaluating it per pixel. 8-bit
+  // values index the 256 entries made at construction (a value above 255, which no decoder
+  // gives, clamps to 255 as inverseResponse does). 16-bit values span 0..65535 = 257 · 255,
+  // so value/257 lands on the 8-bit scale; a table of their 65536 entries is made per image
+  // and only pays off on images of more pixels than that.
+  const std::size_t n = raw.pixels.size();
+  const std::uint16_t* in = raw.pixels.data();
+  const bool eight_bit = raw.bit_depth == 8;
+  const double to_table = eight_bit ? 1.0 : 1.0 / 257.0;
+  std::vector<double> table16;
+  if (!eight_bit && n > 65536) {
+    table16.resize(65536);
+    for (std::size_t k = 0; k < table16.size(); ++k) table16[k] = inverseResponse(k * to_table);
+  }
   ImageF energy(raw.pixels.width(), raw.pixels.height());
-  for (std::size_t i = 0; i < energy.size(); ++i) {
-    double e = inverseResponse(raw.pixels.data()[i] * to_table);
-    if (hasVignette()) {
-      const double v = vignette_.data()[i];
-      e = v > 0.0 ? e / v : 0.0;
-    }
-    energy.data()[i] = static_cast<float>(e);
+  const float* vignette = hasVignette() ? vignette_.data() : nullptr;
+  if (eight_bit) {
+    const double* table = at_values_.data();
+    correctPixels(in, n, vignette, energy.data(), [table](std::uint16_t value) {
+      return table[std::min<std::uint16_t>(value, kResponseSize - 1)];
+    });
+  } else if (!table16.empty()) {
+    const double* table = table16.data();
+    correctPixels(in, n, vignette, energy.data(),
+                  [table](std::uint16_t value) { return table[value]; });
+  } else {
+    correctPixels(in, n, vignette, energy.data(),
+                  [&](std::uint16_t value) { return inverseResponse(value * to_table); });
   }
   return energy;
 }

@@ -4,33 +4,19 @@
 #include <omnidso/frontend/pixel_selector.hpp>
 #include <random>
 
+#include "pixel_selector_detail.hpp"
+
 namespace omnidso {
 namespace {
 
-// ‖∇I‖ of a whole level, computed once per selection (the threshold map and every
-// adaptation round read it).
+// ‖∇I‖ of a whole level, computed once per selection (the threshold map, the level tests and
+// the selected pixels' gradients read it).
 Image<float> gradientNormImage(const ImageGradients& g) {
   Image<float> out(g.dx.width(), g.dx.height());
-  for (size_t i = 0; i < out.size(); ++i)
-    out.data()[i] = std::sqrt(g.dx.data()[i] * g.dx.data()[i] + g.dy.data()[i] * g.dy.data()[i]);
-  return out;
-}
-
-// The mask eroded by `radius` (and the image border): where a pattern fits entirely.
-Mask usableMask(const Mask& mask, int width, int height, int radius) {
-  Mask out(width, height, 0);
-  for (int v = radius; v < height - radius; ++v)
-    for (int u = radius; u < width - radius; ++u) {
-      bool ok = true;
-      if (!mask.empty())
-        for (int dv = -radius; dv <= radius && ok; ++dv)
-          ok = mask(u - radius, v + dv) && mask(u + radius, v + dv);
-      if (ok && !mask.empty())
-        for (int du = -radius; du <= radius && ok; ++du)
-          ok = mask(u + du, v - radius) && mask(u + du, v + radius);
-      if (ok && !mask.empty()) ok = mask(u, v);
-      out(u, v) = ok ? 255 : 0;
-    }
+  const float* dx = g.dx.data();
+  const float* dy = g.dy.data();
+  float* dst = out.data();
+  for (size_t i = 0; i < out.size(); ++i) dst[i] = std::sqrt(dx[i] * dx[i] + dy[i] * dy[i]);
   return out;
 }
 
@@ -43,25 +29,61 @@ struct Candidate {
 class Selector {
  public:
   // norms: ‖∇I‖ of levels 0, 1, 2 (as many as the pyramid has). What a pixel offers on each
-  // level — whether it passes that level's threshold, and the level's gradient there — does
-  // not depend on d, so it is tabulated once at level-0 resolution; every adaptation round
-  // then only scores the pixels that pass (the rounds took ¾ of a selection).
+  // level — whether it is usable and passes that level's threshold — does not depend on d, so
+  // it is tabulated once as one byte per level-0 pixel (bit L: level L); every adaptation
+  // round then scores only the pixels that pass, reading the level's own gradient images.
+  // (Before: a pass mask and dx, dy copies per level at level-0 resolution, 6 MB zeroed and
+  // written per selection, a quarter of its time.)
   Selector(const ImagePyramid& pyramid, const std::vector<Image<float>>& norms,
            const Mask& usable, const Image<float>& thresholds, const PixelSelectorOptions& options)
-      : norms_(norms), usable_(usable), options_(options) {
-    double factor = 1.0;
-    for (int level = 0; level < static_cast<int>(norms.size()); ++level) {
-      levels_.push_back(tabulate(level, pyramid.gradients(level), norms[level], thresholds,
-                                 static_cast<float>(factor)));
-      factor *= options.coarser_level_factor;
+      : norms_(norms),
+        options_(options),
+        flags_(usable.width(), usable.height(), 0),
+        levels_(static_cast<int>(norms.size())) {
+    const int w = usable.width(), h = usable.height(), bs = options.threshold_block_size;
+    const int levels = static_cast<int>(norms.size());
+    // Per column: its threshold block and, per level, the level-L column covering it.
+    std::vector<int> block_u(w);
+    for (int u = 0; u < w; ++u) block_u[u] = std::min(u / bs, thresholds.width() - 1);
+    float factor[3];
+    double f = 1.0;
+    for (int level = 0; level < levels; ++level) {
+      const ImageGradients& g = pyramid.gradients(level);
+      gradients_[level] = &g;
+      factor[level] = static_cast<float>(f);
+      f *= options.coarser_level_factor;
+      columns_[level].resize(w);
+      rows_[level].resize(h);
+      for (int u = 0; u < w; ++u) columns_[level][u] = std::min(u >> level, g.dx.width() - 1);
+      for (int v = 0; v < h; ++v) rows_[level][v] = std::min(v >> level, g.dx.height() - 1);
+    }
+    for (int v = 0; v < h; ++v) {
+      const float* threshold_row = thresholds.row(std::min(v / bs, thresholds.height() - 1));
+      const float* norm_row[3];
+      for (int level = 0; level < levels; ++level)
+        norm_row[level] = norms[level].row(rows_[level][v]);
+      const std::uint8_t* use = usable.row(v);
+      std::uint8_t* dst = flags_.row(v);
+      for (int u = 0; u < w; ++u) {
+        if (!use[u]) continue;
+        std::uint8_t bits = 0;
+        for (int level = 0; level < levels; ++level) {
+          const float threshold = factor[level] * threshold_row[block_u[u]];
+          // "not ≤" rather than ">": the rule the tables always used (NaN passes, and then
+          // never wins a comparison of scores).
+          if (!(norm_row[level][columns_[level][u]] <= threshold))
+            bits |= static_cast<std::uint8_t>(1u << level);
+        }
+        dst[u] = bits;
+      }
     }
   }
 
-  std::vector<SelectedPixel> run(int d) {
+  std::vector<SelectedPixel> run(int d) const {
     std::vector<SelectedPixel> out;
     std::mt19937_64 rng(options_.seed);
     std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI);
-    const int w = usable_.width(), h = usable_.height();
+    const int w = flags_.width(), h = flags_.height();
     for (int v4 = 0; v4 < h; v4 += 4 * d)
       for (int u4 = 0; u4 < w; u4 += 4 * d) {
         bool any4 = false;
@@ -75,13 +97,19 @@ class Selector {
                 const double a = angle(rng);
                 const Eigen::Vector2f dir(std::cos(a), std::sin(a));
                 Candidate best1;
-                for (int v = v1; v < std::min(v1 + d, h); ++v)
-                  for (int u = u1; u < std::min(u1 + d, w); ++u) {
-                    if (!usable_(u, v)) continue;
-                    consider(0, u, v, dir, &best1);
-                    consider(1, u, v, dir, &best2);
-                    consider(2, u, v, dir, &best4);
+                const int u_end = std::min(u1 + d, w);
+                for (int v = v1; v < std::min(v1 + d, h); ++v) {
+                  const std::uint8_t* bits = flags_.row(v);
+                  Rows r[3];
+                  for (int level = 0; level < levels_; ++level) r[level] = rows(level, v);
+                  for (int u = u1; u < u_end; ++u) {
+                    const unsigned b = bits[u];
+                    if (!b) continue;
+                    if (b & 1) consider(r[0], u, u, v, dir, &best1);
+                    if (b & 2) consider(r[1], columns_[1][u], u, v, dir, &best2);
+                    if (b & 4) consider(r[2], columns_[2][u], u, v, dir, &best4);
                   }
+                }
                 if (best1.valid()) {
                   out.push_back(make(best1, 0));
                   any2 = any4 = true;
@@ -98,36 +126,20 @@ class Selector {
   }
 
  private:
-  // Per level-0 pixel (u, v): whether the level-L pixel covering it passes factor_L × the
-  // threshold of (u, v)'s block, and that level-L pixel's gradient.
-  struct LevelTable {
-    Mask passes;
-    Image<float> dx, dy;
+  // The gradient rows of a level that cover level-0 row v.
+  struct Rows {
+    const float* dx = nullptr;
+    const float* dy = nullptr;
   };
-  LevelTable tabulate(int level, const ImageGradients& g, const Image<float>& norm,
-                      const Image<float>& thresholds, float factor) const {
-    const int w = usable_.width(), h = usable_.height(), bs = options_.threshold_block_size;
-    LevelTable t{Mask(w, h, 0), Image<float>(w, h, 0.f), Image<float>(w, h, 0.f)};
-    for (int v = 0; v < h; ++v)
-      for (int u = 0; u < w; ++u) {
-        const int ul = std::min(u >> level, g.dx.width() - 1);
-        const int vl = std::min(v >> level, g.dx.height() - 1);
-        const float threshold =
-            factor * thresholds(std::min(u / bs, thresholds.width() - 1),
-                                std::min(v / bs, thresholds.height() - 1));
-        if (norm(ul, vl) <= threshold) continue;
-        t.passes(u, v) = 1;
-        t.dx(u, v) = g.dx(ul, vl);
-        t.dy(u, v) = g.dy(ul, vl);
-      }
-    return t;
+  Rows rows(int level, int v) const {
+    const int vl = rows_[level][v];
+    return {gradients_[level]->dx.row(vl), gradients_[level]->dy.row(vl)};
   }
 
-  void consider(int level, int u, int v, const Eigen::Vector2f& dir, Candidate* best) const {
-    if (level >= static_cast<int>(levels_.size())) return;
-    const LevelTable& t = levels_[level];
-    if (!t.passes(u, v)) return;
-    const float score = std::abs(t.dx(u, v) * dir.x() + t.dy(u, v) * dir.y());
+  // Scores the level's gradient at column ul of its row r for level-0 pixel (u, v).
+  static void consider(const Rows& r, int ul, int u, int v, const Eigen::Vector2f& dir,
+                       Candidate* best) {
+    const float score = std::abs(r.dx[ul] * dir.x() + r.dy[ul] * dir.y());
     if (score > best->score) *best = {u, v, score};
   }
 
@@ -140,9 +152,11 @@ class Selector {
   }
 
   const std::vector<Image<float>>& norms_;
-  const Mask& usable_;
   const PixelSelectorOptions& options_;
-  std::vector<LevelTable> levels_;
+  Mask flags_;
+  int levels_;
+  const ImageGradients* gradients_[3] = {nullptr, nullptr, nullptr};
+  std::vector<int> columns_[3], rows_[3];
 };
 
 }  // namespace
@@ -154,15 +168,24 @@ Image<float> gradientThresholdMap(const Image<float>& gradient_norm, const Mask&
   Image<float> raw(bw, bh, 0.f);
   Image<std::uint8_t> has(bw, bh, 0);
   std::vector<float> values;
+  std::vector<std::uint32_t> keys;
+  values.reserve(static_cast<size_t>(block_size) * block_size);
   for (int by = 0; by < bh; ++by)
     for (int bx = 0; bx < bw; ++bx) {
       values.clear();
-      for (int v = by * block_size; v < std::min((by + 1) * block_size, h); ++v)
-        for (int u = bx * block_size; u < std::min((bx + 1) * block_size, w); ++u)
-          if (mask.empty() || mask(u, v)) values.push_back(gradient_norm(u, v));
+      const int u0 = bx * block_size, u1 = std::min(u0 + block_size, w);
+      for (int v = by * block_size; v < std::min((by + 1) * block_size, h); ++v) {
+        const float* norm = gradient_norm.row(v);
+        if (mask.empty()) {
+          values.insert(values.end(), norm + u0, norm + u1);
+          continue;
+        }
+        const std::uint8_t* valid = mask.row(v);
+        for (int u = u0; u < u1; ++u)
+          if (valid[u]) values.push_back(norm[u]);
+      }
       if (values.empty()) continue;
-      std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-      raw(bx, by) = values[values.size() / 2];
+      raw(bx, by) = detail::kthSmallest(values, values.size() / 2, keys);
       has(bx, by) = 1;
     }
   // Smooth over the 3×3 neighbourhood of blocks that have valid pixels.
@@ -191,7 +214,9 @@ std::vector<SelectedPixel> selectPixels(const ImagePyramid& pyramid, const Mask&
                 std::to_string(mask.height()) + ", the image " + std::to_string(image.width()) +
                 "x" + std::to_string(image.height()));
   if (options.desired_points <= 0) return {};
-  const Mask usable = usableMask(mask, image.width(), image.height(), options.border);
+  if (options.border < 0 || options.threshold_block_size < 1)
+    throw Error("selectPixels: border must be >= 0 and threshold_block_size >= 1");
+  const Mask usable = detail::usableMask(mask, image.width(), image.height(), options.border);
   long valid = 0;
   for (size_t i = 0; i < usable.size(); ++i) valid += usable.data()[i] != 0;
   if (valid == 0) return {};
@@ -200,7 +225,7 @@ std::vector<SelectedPixel> selectPixels(const ImagePyramid& pyramid, const Mask&
     norms.push_back(gradientNormImage(pyramid.gradients(level)));
   const Image<float> thresholds = gradientThresholdMap(
       norms[0], mask, options.threshold_block_size, options.gradient_threshold_offset);
-  Selector selector(pyramid, norms, usable, thresholds, options);
+  const Selector selector(pyramid, norms, usable, thresholds, options);
   double d = std::max(1.0, std::sqrt(static_cast<double>(valid) / options.desired_points));
   std::vector<SelectedPixel> best = selector.run(static_cast<int>(std::lround(d)));
   for (int round = 0; round < options.max_adaptation_rounds; ++round) {

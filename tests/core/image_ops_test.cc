@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <random>
+
+#include "support/reference_image_preparation.hpp"
 
 namespace omnidso {
 namespace {
@@ -83,6 +87,35 @@ TEST(ImageOps, GradientsCentralInsideOneSidedAtBorder) {
   EXPECT_FLOAT_EQ(g.dx(2, 0), 4.0f);  // (I(3) − I(1)) / 2
   EXPECT_FLOAT_EQ(g.dx(3, 0), 5.0f);  // I(3) − I(2)
   EXPECT_FLOAT_EQ(g.dy(2, 0), 0.0f);  // a single row has no vertical gradient
+}
+
+// Bit for bit what the per-pixel formula gives (support/reference_image_preparation.hpp), on
+// every size class: 1-pixel axes (zero derivative), 2-pixel axes (both one-sided), odd sizes,
+// and a 480×480 image of random and of smooth rows (the borders and the inside of each).
+bool sameBits(const ImageF& a, const ImageF& b) {
+  return a.width() == b.width() && a.height() == b.height() &&
+         std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+TEST(ImageOps, GradientsBitIdenticalToThePerPixelFormula) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> intensity(0.0f, 255.0f);
+  const std::pair<int, int> sizes[] = {{1, 1}, {1, 7}, {7, 1}, {2, 2}, {2, 5}, {5, 2},
+                                       {3, 3}, {31, 17}, {480, 480}};
+  for (const auto& [w, h] : sizes) {
+    ImageF noise(w, h), smooth(w, h);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        noise(u, v) = intensity(rng);
+        smooth(u, v) = 100.0f + 60.0f * std::sin(0.07f * u) * std::cos(0.05f * v + 0.3f);
+      }
+    for (const ImageF* image : {&noise, &smooth}) {
+      const ImageGradients fast = computeGradients(*image);
+      const ImageGradients slow = reference::computeGradients(*image);
+      EXPECT_TRUE(sameBits(fast.dx, slow.dx)) << w << "x" << h;
+      EXPECT_TRUE(sameBits(fast.dy, slow.dy)) << w << "x" << h;
+    }
+  }
 }
 
 }  // namespace

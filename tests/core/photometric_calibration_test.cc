@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -12,6 +13,8 @@
 
 #include "core/temp_dir.hpp"
 #include "omnidso/core/error.hpp"
+#include "support/reference_image_preparation.hpp"
+#include "test_data.hpp"
 
 namespace omnidso {
 namespace {
@@ -191,6 +194,51 @@ TEST(PhotometricCalibration, EightBitIndexesTableAndZeroVignetteGivesZero) {
   const ImageF energy = calib.correct(RawImage{8, ImageU16(2, 1, 200)});
   EXPECT_FLOAT_EQ(energy(0, 0), static_cast<float>(table[200] / 0.5));
   EXPECT_EQ(energy(1, 0), 0.0f);
+}
+
+// correct() reads G⁻¹ from tables of inverseResponse() per raw value: the result must be the
+// same bits as evaluating inverseResponse() per pixel (support/reference_image_preparation.hpp)
+// for 8 and 16 bits, with and without a vignette (with zeros in it), a response with a flat
+// stretch and -0 (whose interpolation could round differently), and 8-bit values above 255.
+bool sameBits(const ImageF& a, const ImageF& b) {
+  return a.width() == b.width() && a.height() == b.height() &&
+         std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+TEST(PhotometricCalibration, CorrectBitIdenticalToInverseResponsePerPixel) {
+  InverseResponse odd = gammaInverseResponse();
+  odd[0] = -0.0;
+  for (int k = 1; k < 20; ++k) odd[k] = 0.0;  // flat, then the gamma curve
+  std::mt19937 rng(33);
+  for (const int size : {16, 300}) {  // 300² > 65536: the 16-bit table is used
+    ImageF vignette = radialVignette(size, size);
+    for (int i = 0; i < size; ++i) vignette(i, i) = 0.0f;
+    for (const InverseResponse& table : {gammaInverseResponse(), odd, identityInverseResponse()})
+      for (const ImageF& v : {ImageF(), vignette}) {
+        const PhotometricCalibration calib(table, v);
+        for (const int bits : {8, 16}) {
+          RawImage raw{bits, ImageU16(size, size)};
+          std::uniform_int_distribution<int> value(0, bits == 8 ? 300 : 65535);
+          for (std::size_t i = 0; i < raw.pixels.size(); ++i)
+            raw.pixels.data()[i] = static_cast<std::uint16_t>(value(rng));
+          EXPECT_TRUE(sameBits(calib.correct(raw), reference::correct(calib, raw)))
+              << bits << " bits, " << size << "², vignette " << !v.empty();
+        }
+      }
+  }
+}
+
+TEST(PhotometricCalibration, CorrectBitIdenticalOnRealImages) {
+  const auto dir = test::sharedDataDir("euroc_v101_static_clip");
+  if (!dir) GTEST_SKIP() << test::missingDataMessage("euroc_v101_static_clip");
+  const std::string path =
+      (*dir / "mav0/cam0/data/1403715277862142976.png").string();
+  const RawImage raw = readRawImage(path);
+  const ImageF vignette = radialVignette(raw.pixels.width(), raw.pixels.height());
+  for (const ImageF& v : {ImageF(), vignette}) {
+    const PhotometricCalibration calib(gammaInverseResponse(), v);
+    EXPECT_TRUE(sameBits(calib.correct(raw), reference::correct(calib, raw)));
+  }
 }
 
 TEST(PhotometricCalibration, VignetteSizeMismatchNamesVignette) {

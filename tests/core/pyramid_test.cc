@@ -2,7 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <tuple>
+
 #include "omnidso/core/error.hpp"
+#include "support/reference_image_preparation.hpp"
 
 namespace omnidso {
 namespace {
@@ -45,6 +51,31 @@ TEST(ImagePyramid, RampGradientDoublesPerLevel) {
     // Pixel centre convention: level-L pixel u sits at level-0 (u + 0.5)·2^L − 0.5.
     const float u0 = (3 + 0.5f) * scale - 0.5f, v0 = (2 + 0.5f) * scale - 0.5f;
     EXPECT_NEAR(pyramid.level(l)(3, 2), a * u0 + b * v0, 1e-3f);
+  }
+}
+
+TEST(ImagePyramid, LevelsAndGradientsBitIdenticalToThePerPixelFormulas) {
+  // Every level and gradient as the 2×2 mean and central differences per pixel give them
+  // (support/reference_image_preparation.hpp), on a 480×480 image of texture plus noise and
+  // an odd-sized one whose levels drop a last column or row.
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> noise(-20.0f, 20.0f);
+  for (const auto& [w, h, levels] : {std::tuple{480, 480, 4}, std::tuple{203, 151, 5}}) {
+    ImageF image(w, h);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u)
+        image(u, v) = 120.0f + 80.0f * std::sin(0.11f * u + 0.02f * v) + noise(rng);
+    const ImagePyramid pyramid(image, levels);
+    const reference::Pyramid expected(image, levels);
+    auto same = [](const ImageF& a, const ImageF& b) {
+      return a.width() == b.width() && a.height() == b.height() &&
+             std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+    };
+    for (int l = 0; l < levels; ++l) {
+      EXPECT_TRUE(same(pyramid.level(l), expected.levels[l])) << w << "x" << h << " level " << l;
+      EXPECT_TRUE(same(pyramid.gradients(l).dx, expected.gradients[l].dx)) << "level " << l;
+      EXPECT_TRUE(same(pyramid.gradients(l).dy, expected.gradients[l].dy)) << "level " << l;
+    }
   }
 }
 

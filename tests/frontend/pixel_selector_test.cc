@@ -2,11 +2,15 @@
 // pixel must satisfy, the count, and determinism.
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <limits>
+#include <random>
 #include <set>
 #include <omnidso/core/error.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
 #include <omnidso/synth/synthetic_sequence.hpp>
 
+#include "support/reference_selection.hpp"
 #include "support/rendered_scene.hpp"
 
 namespace omnidso {
@@ -74,6 +78,108 @@ TEST(PixelSelector, TheSameSeedSelectsTheSamePixelsAnotherSeedOthers) {
   };
   EXPECT_EQ(selection(3), selection(3));
   EXPECT_NE(selection(3), selection(4));  // the random directions differ per cell
+}
+
+// The selection is bit-identical to the straightforward one it replaced
+// (support/reference_selection.hpp): the same pixels in the same order, the same levels, the
+// same gradient bits. Over masks whose outline and inside differ (scattered invalid pixels:
+// the usable rule tests the square's outline only), no mask, an odd-sized crop (the coarser
+// levels' last column and row are clamped), a 2-level pyramid, and options that move the
+// cell size, the blocks (not a multiple of 4) and the border.
+void expectSameSelection(const ImagePyramid& pyramid, const Mask& mask,
+                         const PixelSelectorOptions& options, const std::string& what) {
+  const std::vector<SelectedPixel> fast = selectPixels(pyramid, mask, options);
+  const std::vector<SelectedPixel> slow = reference::selectPixels(pyramid, mask, options);
+  ASSERT_EQ(fast.size(), slow.size()) << what;
+  ASSERT_FALSE(fast.empty()) << what;
+  for (size_t i = 0; i < fast.size(); ++i) {
+    ASSERT_EQ(fast[i].pixel, slow[i].pixel) << what << ", pixel " << i;
+    ASSERT_EQ(fast[i].level, slow[i].level) << what << ", pixel " << i;
+    ASSERT_EQ(std::memcmp(&fast[i].gradient, &slow[i].gradient, sizeof(float)), 0) << what;
+  }
+}
+
+Mask withScatteredHoles(const Mask& mask, double fraction, std::uint64_t seed) {
+  Mask out = mask.empty() ? Mask(320, 320, 255) : mask;
+  std::mt19937_64 rng(seed);
+  std::bernoulli_distribution hole(fraction);
+  for (size_t i = 0; i < out.size(); ++i)
+    if (hole(rng)) out.data()[i] = 0;
+  return out;
+}
+
+TEST(PixelSelector, SelectsBitIdenticallyToTheReference) {
+  const SelectionScene s;
+  const std::vector<std::pair<std::string, Mask>> masks = {
+      {"fisheye mask", s.mask},
+      {"no mask", Mask()},
+      {"holes 0.2 %", withScatteredHoles(s.mask, 0.002, 1)},
+      {"holes 2 %", withScatteredHoles(s.mask, 0.02, 2)}};
+  for (const auto& [name, mask] : masks)
+    for (int desired : {150, 800, 2000, 20000})
+      for (std::uint64_t seed : {0u, 7u}) {
+        PixelSelectorOptions options;
+        options.desired_points = desired;
+        options.seed = seed;
+        expectSameSelection(s.pyramid, mask, options,
+                            name + ", " + std::to_string(desired) + " points, seed " +
+                                std::to_string(seed));
+      }
+  PixelSelectorOptions odd;
+  odd.threshold_block_size = 21;
+  odd.border = 2;
+  odd.coarser_level_factor = 0.6;
+  expectSameSelection(s.pyramid, masks[2].second, odd, "block 21, border 2");
+  odd.border = 0;
+  expectSameSelection(s.pyramid, masks[3].second, odd, "border 0");
+}
+
+TEST(PixelSelector, SelectsBitIdenticallyToTheReferenceOnOddSizesAndFewLevels) {
+  const SelectionScene s;
+  const int w = 301, h = 263;  // level 1 is 150×131: column 300 and row 262 clamp to it
+  ImageF crop(w, h);
+  Mask mask(w, h);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      crop(u, v) = s.pyramid.level(0)(u + 10, v + 30);
+      mask(u, v) = s.mask(u + 10, v + 30);
+    }
+  PixelSelectorOptions options;
+  options.desired_points = 900;
+  options.border = 1;
+  expectSameSelection(ImagePyramid(crop, 3), mask, options, "301x263, 3 levels");
+  expectSameSelection(ImagePyramid(crop, 2), Mask(), options, "301x263, 2 levels");
+  expectSameSelection(ImagePyramid(crop, 1), withScatteredHoles(mask, 0.01, 3), options,
+                      "301x263, 1 level");
+}
+
+// The block medians are found by a radix select on the float bits, not nth_element: the same
+// bits on gradient norms (ties, zeros, denormals, +∞, blocks cut by the image edge and the
+// mask), and — through its fallback — on values outside that order (negative, −0).
+TEST(PixelSelector, ThresholdMapBitIdenticalToTheReference) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<float> value(0.0f, 300.0f);
+  std::uniform_int_distribution<int> pick(0, 99);
+  const float specials[] = {0.0f, 1e-40f, 7.0f, std::numeric_limits<float>::infinity()};
+  for (const bool unordered : {false, true}) {
+    Image<float> norm(203, 150);
+    for (size_t i = 0; i < norm.size(); ++i) {
+      const int p = pick(rng);
+      norm.data()[i] = p < 20 ? specials[p % 4] : std::round(value(rng) * (p < 50 ? 1 : 64)) / 64;
+      if (unordered && p == 99) norm.data()[i] = -0.0f;
+      if (unordered && p == 98) norm.data()[i] = -3.0f;
+    }
+    const Mask holes = withScatteredHoles(Mask(203, 150, 255), 0.3, 5);
+    for (const Mask& mask : {Mask(), holes})
+      for (int block : {32, 7}) {
+        const Image<float> fast = gradientThresholdMap(norm, mask, block, 7.0);
+        const Image<float> slow = reference::gradientThresholdMap(norm, mask, block, 7.0);
+        ASSERT_EQ(fast.width(), slow.width());
+        ASSERT_EQ(fast.height(), slow.height());
+        EXPECT_EQ(std::memcmp(fast.data(), slow.data(), fast.size() * sizeof(float)), 0)
+            << "block " << block << ", mask " << !mask.empty() << ", unordered " << unordered;
+      }
+  }
 }
 
 TEST(PixelSelector, MaskOfAnotherSizeIsAnError) {

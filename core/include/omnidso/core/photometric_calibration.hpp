@@ -75,7 +75,11 @@ class PhotometricCalibration {
   ImageF correct(const RawImage& raw) const;
 
  private:
+  void tabulateValues();
+
   InverseResponse inverse_response_;
+  // inverseResponse(k) for k = 0..255, evaluated once: correct() reads 8-bit pixels from it.
+  InverseResponse at_values_;
   ImageF vignette_;
   std::string vignette_source_;
 };
