@@ -13,45 +13,46 @@ using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::R
 
 // One residual block of R: its parameter blocks as indices into the ordered blocks [M | K]
 // (-1 for constant ones, which get no Jacobian) and its residuals at the current estimate.
-// The Jacobian is kept as Ceres writes it, one row-major num_residuals × tangent-size part
-// per non-constant block, the parts one after the other — so nothing is copied or
-// allocated per block (a keyframe's points bring a few thousand blocks).
 struct LinearizedBlock {
   ceres::ResidualBlockId id = nullptr;
   std::vector<int> block_index;
   int num_residuals = 0;
-  size_t r_offset = 0;         // into LinearizedBlocks::r: r at the current estimate
-  size_t jacobian_offset = 0;  // into LinearizedBlocks::jacobians: the parts
-};
-
-struct LinearizedBlocks {
-  std::vector<LinearizedBlock> blocks;
-  std::vector<double>& r;          // the marginaliser's buffers, kept between calls: fresh
-  std::vector<double>& jacobians;  // megabytes each time would cost page faults
+  int jacobian_cols = 0;             // Σ tangent sizes of its non-constant blocks
+  std::vector<double> r;             // at the current estimate
+  std::vector<double> jacobian;      // num_residuals × jacobian_cols, row-major
 };
 
 // J of one residual block at the problem's current parameter values (loss function and
-// manifolds applied, as in a solve), its non-constant blocks' parts in their order.
+// manifolds applied, as in a solve), its non-constant blocks side by side in their order.
 bool evaluateJacobian(const ceres::Problem& problem, const std::vector<int>& tangent_sizes,
-                      const LinearizedBlock& block, LinearizedBlocks& all,
-                      std::vector<double*>& pointers, std::vector<double>& residuals) {
+                      LinearizedBlock& block) {
   const int n = block.num_residuals;
   const size_t num_blocks = block.block_index.size();
-  pointers.assign(num_blocks, nullptr);
-  double* part = all.jacobians.data() + block.jacobian_offset;
+  std::vector<RowMatrix> parts(num_blocks);
+  std::vector<double*> pointers(num_blocks, nullptr);
   for (size_t i = 0; i < num_blocks; ++i) {
     if (block.block_index[i] < 0) continue;  // constant: Ceres refuses its Jacobian
-    pointers[i] = part;
-    part += static_cast<size_t>(n) * tangent_sizes[block.block_index[i]];
+    parts[i].resize(n, tangent_sizes[block.block_index[i]]);
+    pointers[i] = parts[i].data();
   }
-  residuals.resize(n);
+  std::vector<double> residuals(n);
   double cost = 0.0;
-  return problem.EvaluateResidualBlock(block.id, true, &cost, residuals.data(), pointers.data());
+  if (!problem.EvaluateResidualBlock(block.id, true, &cost, residuals.data(), pointers.data()))
+    return false;
+  block.jacobian.resize(static_cast<size_t>(n) * block.jacobian_cols);
+  Eigen::Map<RowMatrix> J(block.jacobian.data(), n, block.jacobian_cols);
+  int col = 0;
+  for (const RowMatrix& part : parts) {
+    if (part.size() == 0) continue;  // a constant block
+    J.middleCols(col, part.cols()) = part;
+    col += static_cast<int>(part.cols());
+  }
+  return true;
 }
 
 // Normal equations of the linearised R in δ coordinates, split [M | K]: H_MM (sparse: for
 // points block-diagonal), H_KM and H_KK dense (K is a few keyframes), g over [M | K]. Each
-// residual block adds its own dense JᵀJ, part by part, so no global Jacobian is formed.
+// residual block adds its own dense JᵀJ, so no global Jacobian is formed.
 struct NormalEquations {
   NormalEquations(int m, int k) : m(m), H_km(Eigen::MatrixXd::Zero(k, m)),
                                   H_kk(Eigen::MatrixXd::Zero(k, k)),
@@ -60,51 +61,44 @@ struct NormalEquations {
   std::vector<Eigen::Triplet<double>> H_mm_entries;  // summed on assembly
   Eigen::MatrixXd H_km, H_kk;
   Eigen::VectorXd g;
-  Eigen::MatrixXd part_product;  // scratch for the blocks of H_MM
-  Eigen::VectorXd r0;            // scratch
-  std::vector<int> global, size;  // scratch: per non-constant block, offset in [M | K], size
-  std::vector<const double*> part;  // scratch: its Jacobian part
 
   // Adds JᵀJ and Jᵀr₀ of one block; `offsets` place each ordered block in [M | K].
-  void add(const LinearizedBlock& block, const LinearizedBlocks& all,
-           const std::vector<int>& offsets, const std::vector<int>& tangent_sizes,
-           const Eigen::VectorXd& delta_current) {
-    using PartMap = Eigen::Map<const RowMatrix>;
-    const int n = block.num_residuals;
-    global.clear();
-    size.clear();
-    part.clear();
-    const double* next = all.jacobians.data() + block.jacobian_offset;
+  void add(const LinearizedBlock& block, const std::vector<int>& offsets,
+           const std::vector<int>& tangent_sizes, const Eigen::VectorXd& delta_current) {
+    const Eigen::Map<const RowMatrix> J(block.jacobian.data(), block.num_residuals,
+                                        block.jacobian_cols);
+    std::vector<int> global, local;  // per non-constant block: offset in [M | K], in J
+    Eigen::VectorXd delta(block.jacobian_cols);
+    int col = 0;
     for (int index : block.block_index) {
       if (index < 0) continue;
       global.push_back(offsets[index]);
-      size.push_back(tangent_sizes[index]);
-      part.push_back(next);
-      next += static_cast<size_t>(n) * size.back();
+      local.push_back(col);
+      delta.segment(col, tangent_sizes[index]) =
+          delta_current.segment(offsets[index], tangent_sizes[index]);
+      col += tangent_sizes[index];
     }
-    const int num_parts = static_cast<int>(part.size());
+    local.push_back(col);
     // r(δ) ≈ r₀ + J δ with r₀ = r(x) − J (x ⊟ x̄).
-    r0 = Eigen::Map<const Eigen::VectorXd>(all.r.data() + block.r_offset, n);
-    for (int a = 0; a < num_parts; ++a)
-      r0.noalias() -= PartMap(part[a], n, size[a]) * delta_current.segment(global[a], size[a]);
-    for (int a = 0; a < num_parts; ++a) {
-      const PartMap J_a(part[a], n, size[a]);
-      g.segment(global[a], size[a]).noalias() += J_a.transpose() * r0;
-      const bool a_in_m = global[a] < m;
-      for (int b = 0; b < num_parts; ++b) {
-        const PartMap J_b(part[b], n, size[b]);
-        const bool b_in_m = global[b] < m;
+    const Eigen::VectorXd r0 =
+        Eigen::Map<const Eigen::VectorXd>(block.r.data(), block.num_residuals) - J * delta;
+    const Eigen::MatrixXd JtJ = J.transpose() * J;
+    const Eigen::VectorXd Jtr = J.transpose() * r0;
+    for (size_t a = 0; a < global.size(); ++a) {
+      const int size_a = local[a + 1] - local[a];
+      g.segment(global[a], size_a) += Jtr.segment(local[a], size_a);
+      for (size_t b = 0; b < global.size(); ++b) {
+        const int size_b = local[b + 1] - local[b];
+        const auto part = JtJ.block(local[a], local[b], size_a, size_b);
+        const bool a_in_m = global[a] < m, b_in_m = global[b] < m;
         if (a_in_m && b_in_m) {
-          part_product.noalias() = J_a.transpose() * J_b;
-          for (int i = 0; i < size[a]; ++i)
-            for (int j = 0; j < size[b]; ++j)
-              H_mm_entries.emplace_back(global[a] + i, global[b] + j, part_product(i, j));
+          for (int i = 0; i < size_a; ++i)
+            for (int j = 0; j < size_b; ++j)
+              H_mm_entries.emplace_back(global[a] + i, global[b] + j, part(i, j));
         } else if (!a_in_m && b_in_m) {
-          H_km.block(global[a] - m, global[b], size[a], size[b]).noalias() +=
-              J_a.transpose() * J_b;
+          H_km.block(global[a] - m, global[b], size_a, size_b) += part;
         } else if (!a_in_m && !b_in_m) {
-          H_kk.block(global[a] - m, global[b] - m, size[a], size[b]).noalias() +=
-              J_a.transpose() * J_b;
+          H_kk.block(global[a] - m, global[b] - m, size_a, size_b) += part;
         }  // H_MK = H_KMᵀ: not needed
       }
     }
@@ -242,51 +236,39 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
   // first-estimate point. A residual that cannot be evaluated at the current estimate (its
   // point projects out of the target) carries no information there: it is left out of the
   // prior (and removed below).
-  residual_buffer_.clear();
-  jacobian_buffer_.clear();
-  LinearizedBlocks linearized{{}, residual_buffer_, jacobian_buffer_};
-  std::vector<double*> params;
-  size_t jacobian_size = 0;
+  std::vector<LinearizedBlock> linearized;
   for (ceres::ResidualBlockId id : residual_blocks) {
     LinearizedBlock block;
     block.id = id;
     block.num_residuals = problem.GetCostFunctionForResidualBlock(id)->num_residuals();
-    block.r_offset = linearized.r.size();
-    linearized.r.resize(block.r_offset + block.num_residuals);
+    block.r.resize(block.num_residuals);
     double cost = 0.0;
-    if (!problem.EvaluateResidualBlock(id, true, &cost, linearized.r.data() + block.r_offset,
-                                       nullptr)) {
-      linearized.r.resize(block.r_offset);
+    if (!problem.EvaluateResidualBlock(id, true, &cost, block.r.data(), nullptr)) {
       ++local_stats.num_unevaluable_residual_blocks;
       continue;
     }
+    std::vector<double*> params;
     problem.GetParameterBlocksForResidualBlock(id, &params);
-    block.jacobian_offset = jacobian_size;
     for (double* p : params) {
       const auto it = index_of.find(p);
       block.block_index.push_back(it == index_of.end() ? -1 : it->second);
-      if (it != index_of.end())
-        jacobian_size += static_cast<size_t>(block.num_residuals) * tangent_sizes[it->second];
+      if (it != index_of.end()) block.jacobian_cols += tangent_sizes[it->second];
     }
-    linearized.blocks.push_back(std::move(block));
+    linearized.push_back(std::move(block));
   }
-  linearized.jacobians.resize(jacobian_size);
   // The Jacobians at the first-estimate point; where some residual cannot be evaluated
   // there, all at the current estimate (which evaluates: r did).
-  std::vector<double> scratch_residuals;
   auto evaluateJacobians = [&] {
-    for (const LinearizedBlock& block : linearized.blocks)
-      if (!evaluateJacobian(problem, tangent_sizes, block, linearized, params, scratch_residuals))
-        return false;
+    for (LinearizedBlock& block : linearized)
+      if (!evaluateJacobian(problem, tangent_sizes, block)) return false;
     return true;
   };
-  const bool any = !linearized.blocks.empty();
   for (size_t i = 0; i < ordered.size(); ++i)
     Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = first_estimate[i];
-  const bool fej_ok = any && evaluateJacobians();
+  const bool fej_ok = !linearized.empty() && evaluateJacobians();
   for (size_t i = 0; i < ordered.size(); ++i)
     Eigen::Map<Eigen::VectorXd>(ordered[i], current[i].size()) = current[i];
-  const bool evaluated = any && (fej_ok || evaluateJacobians());
+  const bool evaluated = !linearized.empty() && (fej_ok || evaluateJacobians());
 
   // 5 (first half, also when nothing could be linearised). The problem no longer holds R or M.
   auto removeFromProblem = [&] {
@@ -309,8 +291,8 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
   // stays sparse (pseudo-inverted per coupled group), the K×K and K×M parts are dense.
   const int m = dim_removed, k = dim - dim_removed;
   NormalEquations normal(m, k);
-  for (const LinearizedBlock& block : linearized.blocks)
-    normal.add(block, linearized, offsets, tangent_sizes, delta_current);
+  for (const LinearizedBlock& block : linearized)
+    normal.add(block, offsets, tangent_sizes, delta_current);
   Eigen::SparseMatrix<double> H_mm(m, m);
   H_mm.setFromTriplets(normal.H_mm_entries.begin(), normal.H_mm_entries.end());
   const Eigen::SparseMatrix<double> H_mm_inv =

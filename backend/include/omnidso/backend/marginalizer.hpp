@@ -60,7 +60,6 @@ class Marginalizer {
  private:
   MarginalizationOptions options_;
   std::unordered_map<const double*, Eigen::VectorXd> linearization_points_;
-  std::vector<double> residual_buffer_, jacobian_buffer_;  // the linearisation, reused
 };
 
 }  // namespace omnidso
