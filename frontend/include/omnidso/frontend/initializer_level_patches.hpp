@@ -1,0 +1,89 @@
+#pragma once
+// One pyramid level's photometric patches of the initialiser (initializer.cc) as its native
+// solve sees them (initializer_solver.hpp, InitializerPatches) — the kernel of the Ceres cost
+// function (residuals/photometric_kernel.hpp, evaluatePhotometricPatch) with the host fixed
+// at the identity with affine [0, 0] (the first frame), the host bearings b_o unprojected
+// once per level (the intrinsics are constant), one sampler of the frame's level image for
+// all points, and the Jacobians in the frame's tangent space directly
+// (photometric_analytic.hpp's target rows, T ⊞ δ = T exp(δ)):
+//   ∂r_o/∂δ = [−d g_o, g_o [x̃_o]×],  ∂r_o/∂[a b] = [−√w_o s h_o, −√w_o],  ∂r_o/∂d = g_o t.
+// Why: the Ceres path's cost function unprojects the host pattern, forms the relative pose
+// and builds a sampler on every evaluation and returns ambient Jacobians for all six blocks.
+
+#include <omnidso/backend/photometric_factory.hpp>
+#include <omnidso/core/se3.hpp>
+#include <omnidso/frontend/initializer_solver.hpp>
+#include <omnidso/residuals/image_sampler.hpp>
+#include <omnidso/residuals/photometric_kernel.hpp>
+#include <vector>
+
+namespace omnidso {
+
+template <template <typename> class M>
+class InitializerLevelPatches final : public InitializerPatches {
+  static constexpr int K = M<double>::kNumParams;
+
+ public:
+  // `level_camera`: the model with the level's intrinsics; `image`, `content`: the frame's
+  // level; the host pose and affine blocks (identity, zero) as the Ceres path passes them.
+  InitializerLevelPatches(const M<double>& level_camera, const ImageF& image, const Mask* content,
+                          double host_exposure, double frame_exposure, const double* host_pose,
+                          const double* host_affine)
+      : camera_(level_camera),
+        sampler_(image, ImageInterpolation::kBilinear, content),
+        host_exposure_(host_exposure),
+        frame_exposure_(frame_exposure),
+        host_pose_(host_pose),
+        host_affine_(host_affine) {}
+
+  // Adds the patch if it is valid at inverse distance d and the current point (setPoint):
+  // the Ceres path's test (PhotometricResidualFactory::status, the same kernel).
+  bool addIfValid(const HostPatch<kPatchSize>& host, double d) {
+    hosts_.push_back(host);
+    bearings_.emplace_back();
+    unprojectHostPattern(camera_, host, false, &bearings_.back());
+    Residuals r;
+    if (evaluate(size() - 1, d, &r, nullptr, nullptr)) return true;
+    hosts_.pop_back();
+    bearings_.pop_back();
+    return false;
+  }
+
+  int size() const override { return static_cast<int>(hosts_.size()); }
+  void setPoint(const double* pose, const double* affine) override {
+    pair_ = makePhotometricPair(host_pose_, pose, host_affine_, affine, host_exposure_,
+                                frame_exposure_);
+  }
+  bool evaluate(int i, double d, Residuals* r, FrameJacobian* J_f, Residuals* J_d) const override {
+    const size_t k = static_cast<size_t>(i);
+    PatchDerivatives<kPatchSize, K> patch;
+    const bool jacobians = J_f != nullptr;
+    if (evaluatePhotometricPatch(camera_, sampler_, hosts_[k], bearings_[k], pair_, d, r->data(),
+                                 jacobians ? &patch : nullptr, false) != PhotometricStatus::kValid)
+      return false;
+    if (!jacobians) return true;
+    for (int o = 0; o < kPatchSize; ++o) {
+      const double sw = hosts_[k].sqrt_weight[o];
+      const Eigen::RowVector3d g = patch.d_r_d_x.row(o);
+      const Eigen::Vector3d x = patch.point.row(o).transpose();
+      J_f->template block<1, 3>(o, 0) = -d * g;
+      J_f->template block<1, 3>(o, 3) = g * skew(x);
+      (*J_f)(o, 6) = -sw * pair_.s * patch.host_term[o];
+      (*J_f)(o, 7) = -sw;
+      (*J_d)[o] = g.dot(pair_.t);
+    }
+    return true;
+  }
+
+ private:
+  M<double> camera_;
+  ImageSampler sampler_;
+  double host_exposure_, frame_exposure_;
+  const double* host_pose_;
+  const double* host_affine_;
+  std::vector<HostPatch<kPatchSize>> hosts_;
+  std::vector<HostBearings<kPatchSize, K>> bearings_;
+  PhotometricPair pair_;
+};
+
+}  // namespace omnidso
