@@ -7,10 +7,14 @@
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/frontend/initializer.hpp>
+#include <omnidso/frontend/initializer_solver.hpp>
+#include <omnidso/frontend/model_dispatch.hpp>
 #include <omnidso/residuals/residual_pattern.hpp>
 #include <omnidso/residuals/out_of_bounds_penalty.hpp>
 #include <omnidso/residuals/se3_manifold.hpp>
 #include <sstream>
+
+#include <omnidso/frontend/initializer_level_patches.hpp>
 
 namespace omnidso {
 namespace {
@@ -102,7 +106,6 @@ struct Initializer::Impl {
   LevelProblem buildLevel(int level, const ImagePyramid& frame, double exposure, bool snapped) {
     const double lambda = snapped ? options.regularizer_weight : options.pre_snap_regularizer_weight;
     const ImageF& host_image = first->level(level);
-    const double margin = patternRadius<kWindowPatternSize>() + 1.0;
     ceres::Problem::Options po;
     po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -122,15 +125,10 @@ struct Initializer::Impl {
                                nullptr, affine.data());
     problem.AddParameterBlock(intrinsics.data(), static_cast<int>(intrinsics.size()));
     problem.SetParameterBlockConstant(intrinsics.data());
-    const double mean_d =
-        snapped ? std::accumulate(inverse_distances.begin(), inverse_distances.end(), 0.0) /
-                      std::max<size_t>(1, inverse_distances.size())
-                : 1.0;
+    const double mean_d = regularizerMean(snapped);
     for (size_t i = 0; i < pixels.size(); ++i) {
       const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
-      if (p.x() < margin || p.y() < margin || p.x() > host_image.width() - 1 - margin ||
-          p.y() > host_image.height() - 1 - margin)
-        continue;
+      if (!insideMargin(p, host_image)) continue;
       WindowObservation obs;
       obs.host = makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p);
       obs.target_image = &frame.level(level);
@@ -157,13 +155,29 @@ struct Initializer::Impl {
     return lp;
   }
 
-  // One level: returns the RMS residual over valid pattern pixels, and the valid mask.
-  double solveLevel(int level, const ImagePyramid& frame, double exposure, bool snapped,
-                    std::vector<bool>* valid_points) {
+  // One level: the RMS residual over valid pattern pixels, and the valid mask.
+  InitializerLevelSolve solveLevel(int level, const ImagePyramid& frame, double exposure,
+                                   bool snapped, std::vector<bool>* valid_points) {
     valid_points->assign(pixels.size(), false);
-    LevelProblem lp = buildLevel(level, frame, exposure, snapped);
-    if (lp.blocks.empty()) return std::numeric_limits<double>::infinity();
-    {
+    InitializerLevelSolve out;
+    std::vector<std::pair<size_t, double>> energies;  // per point of the problem
+    if (options.native_solver) {
+      NativeLevel nl = buildNativeLevel(level, frame, exposure, snapped);
+      if (nl.points.empty()) return levelResult(energies, out);
+      std::vector<double> d;
+      for (size_t i : nl.points) d.push_back(inverse_distances[i]);
+      InitializerSolverOptions so;
+      so.max_num_iterations = options.max_iterations_per_level;
+      const InitializerSolverSummary summary =
+          solveInitializerLevel(nl.problem, so, pose.data(), affine.data(), &d);
+      out.iterations = summary.iterations;
+      for (size_t k = 0; k < nl.points.size(); ++k) {
+        inverse_distances[nl.points[k]] = d[k];  // unchanged after a failure, as with Ceres
+        energies.emplace_back(nl.points[k], summary.energies[k]);
+      }
+    } else {
+      LevelProblem lp = buildLevel(level, frame, exposure, snapped);
+      if (lp.blocks.empty()) return levelResult(energies, out);
       ceres::Solver::Options so;
       auto* ordering = new ceres::ParameterBlockOrdering;
       for (const auto& [i, id] : lp.blocks) ordering->AddElementToGroup(&inverse_distances[i], 0);
@@ -179,19 +193,90 @@ struct Initializer::Impl {
       so.logging_type = ceres::SILENT;
       ceres::Solver::Summary summary;
       ceres::Solve(so, lp.problem.get(), &summary);
-    }
-    double sum = 0.0;
-    int n = 0;
-    for (const auto& [i, id] : lp.blocks) {
+      out.iterations = static_cast<int>(summary.iterations.size()) - 1;
       // The wrapped residual's energy; infinite where it is out of bounds or its inverse
       // distance went negative (it only carried the penalty then).
-      const double energy = rawEnergy(*lp.problem, id);
+      for (const auto& [i, id] : lp.blocks) energies.emplace_back(i, rawEnergy(*lp.problem, id));
+    }
+    for (const auto& [i, energy] : energies) (*valid_points)[i] = std::isfinite(energy);
+    return levelResult(energies, out);
+  }
+
+  static InitializerLevelSolve levelResult(const std::vector<std::pair<size_t, double>>& energies,
+                                           InitializerLevelSolve out) {
+    double sum = 0.0;
+    int n = 0;
+    out.num_points = static_cast<int>(energies.size());
+    for (const auto& [i, energy] : energies) {
       if (!std::isfinite(energy)) continue;
-      (*valid_points)[i] = true;
+      ++out.num_valid;
       sum += energy;
       n += kWindowPatternSize;
     }
-    return n ? std::sqrt(sum / n) : std::numeric_limits<double>::infinity();
+    out.rmse = n ? std::sqrt(sum / n) : std::numeric_limits<double>::infinity();
+    return out;
+  }
+
+  // The native path's level (initializer_solver.hpp): the points buildLevel keeps (inside
+  // the margin, valid at the current values), the same regularisers and prior.
+  struct NativeLevel {
+    std::unique_ptr<ceres::LossFunction> loss;
+    std::unique_ptr<InitializerPatches> patches;
+    std::vector<size_t> points;  // into pixels
+    InitializerLevelProblem problem;
+  };
+
+  NativeLevel buildNativeLevel(int level, const ImagePyramid& frame, double exposure,
+                               bool snapped) {
+    NativeLevel nl;
+    nl.patches = withResidualModel<std::unique_ptr<InitializerPatches>>(
+        camera, [&](auto tag, const auto& model) { return makePatches(tag, model, level, frame, exposure, &nl.points); });
+    const double lambda = snapped ? options.regularizer_weight : options.pre_snap_regularizer_weight;
+    nl.loss.reset(makePhotometricLoss(kWindowPatternSize, options.huber_threshold));
+    InitializerLevelProblem& p = nl.problem;
+    p.patches = nl.patches.get();
+    p.loss = nl.loss.get();
+    p.invalid_residual = std::sqrt(kDsoOutlierEnergyPerPixel * kWindowPatternSize / kWindowPatternSize);
+    p.regularizer_sqrt_weight = std::sqrt(lambda);
+    p.regularizer_mean = regularizerMean(snapped);
+    if (!snapped && options.pre_snap_translation_penalty && !nl.points.empty())
+      p.translation_sqrt_weight = std::sqrt(lambda * static_cast<double>(nl.points.size()));
+    p.affine_prior_weight_a = options.affine_prior_weight_a;
+    p.affine_prior_weight_b = options.affine_prior_weight_b;
+    return nl;
+  }
+
+  template <template <typename> class M>
+  std::unique_ptr<InitializerPatches> makePatches(ModelTag<M>, const M<double>& model, int level,
+                                                  const ImagePyramid& frame, double exposure,
+                                                  std::vector<size_t>* points) const {
+    typename M<double>::VecN params = model.params();
+    scaleIntrinsicsToLevel(params, level);
+    auto patches = std::make_unique<InitializerLevelPatches<M>>(
+        M<double>(params), frame.level(level), frame.content(level), first_exposure, exposure,
+        host_pose.data(), host_affine.data());
+    patches->setPoint(pose.data(), affine.data());
+    const ImageF& host_image = first->level(level);
+    for (size_t i = 0; i < pixels.size(); ++i) {
+      const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
+      if (!insideMargin(p, host_image)) continue;
+      if (patches->addIfValid(makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p),
+                              inverse_distances[i]))
+        points->push_back(i);
+    }
+    return patches;
+  }
+
+  static bool insideMargin(const Eigen::Vector2d& p, const ImageF& image) {
+    const double margin = patternRadius<kWindowPatternSize>() + 1.0;
+    return p.x() >= margin && p.y() >= margin && p.x() <= image.width() - 1 - margin &&
+           p.y() <= image.height() - 1 - margin;
+  }
+
+  double regularizerMean(bool snapped) const {
+    return snapped ? std::accumulate(inverse_distances.begin(), inverse_distances.end(), 0.0) /
+                         std::max<size_t>(1, inverse_distances.size())
+                   : 1.0;
   }
 
   // The start of the coarsest level (header comment): the best, by cost, of every rotation
@@ -207,31 +292,72 @@ struct Initializer::Impl {
     if (half <= 0 || !(options.rotation_search_step_px > 0) || centres.empty()) return;
     const double step = options.rotation_search_step_px * std::ldexp(1.0, level) * radiansPerPixel();
     if (!(step > 0)) return;
-    centres.front().toParameters(pose.data());
-    LevelProblem lp = buildLevel(level, frame, exposure, snapped);
-    if (lp.blocks.empty()) return;
-    auto costAt = [&](const SE3d& candidate) {
-      candidate.toParameters(pose.data());
-      double cost = 0.0;
-      lp.problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
-      return cost;
-    };
-    double best_cost = costAt(centres.front());  // first: the prediction wins ties
-    SE3d best = centres.front();
+    std::vector<SE3d> candidates = {centres.front()};  // first: the prediction wins ties
     for (const SE3d& centre : centres)
       for (int x = -half; x <= half; ++x)
         for (int y = -half; y <= half; ++y)
           for (int z = -half; z <= half; ++z) {
             Eigen::Matrix<double, 6, 1> xi;
             xi << 0, 0, 0, x * step, y * step, z * step;
-            const SE3d candidate = centre * SE3d::exp(xi);  // turned in the frame
-            const double cost = costAt(candidate);
-            if (cost < best_cost) {
-              best_cost = cost;
-              best = candidate;
-            }
+            candidates.push_back(centre * SE3d::exp(xi));  // turned in the frame
           }
-    best.toParameters(pose.data());
+    const std::vector<double> costs = candidateCosts(level, frame, exposure, snapped, candidates);
+    size_t best = 0;
+    for (size_t k = 1; k < costs.size(); ++k)
+      if (costs[k] < costs[best]) best = k;
+    candidates[best].toParameters(pose.data());
+  }
+
+  // The cost of the level's problem — the points valid at candidates[0] — at every candidate
+  // pose (+∞ where it cannot be evaluated); empty when no point is valid. The pose is left
+  // at candidates[0].
+  std::vector<double> candidateCosts(int level, const ImagePyramid& frame, double exposure,
+                                     bool snapped, const std::vector<SE3d>& candidates) {
+    candidates.front().toParameters(pose.data());
+    std::vector<double> costs;
+    if (options.native_solver) {
+      const NativeLevel nl = buildNativeLevel(level, frame, exposure, snapped);
+      std::vector<double> d;
+      for (size_t i : nl.points) d.push_back(inverse_distances[i]);
+      std::array<double, 7> candidate_pose;
+      for (size_t k = 0; k < candidates.size() && !nl.points.empty(); ++k) {
+        candidates[k].toParameters(candidate_pose.data());
+        costs.push_back(initializerLevelCost(nl.problem, candidate_pose.data(), affine.data(), d));
+      }
+    } else {
+      const LevelProblem lp = buildLevel(level, frame, exposure, snapped);
+      for (size_t k = 0; k < candidates.size() && !lp.blocks.empty(); ++k) {
+        candidates[k].toParameters(pose.data());
+        double cost = 0.0;
+        costs.push_back(lp.problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr,
+                                             nullptr, nullptr)
+                            ? cost
+                            : std::numeric_limits<double>::infinity());
+      }
+    }
+    candidates.front().toParameters(pose.data());
+    return costs;
+  }
+
+  // Runs `work` on `state` in place of the initialiser's own, restored afterwards.
+  template <typename Work>
+  auto withState(InitializerState* state, Work&& work) {
+    if (state->inverse_distances.size() != pixels.size())
+      throw Error("Initializer: a state needs one inverse distance per point");
+    const auto saved_pose = pose;
+    const auto saved_affine = affine;
+    const std::vector<double> saved_distances = inverse_distances;
+    state->T_world_frame.toParameters(pose.data());
+    affine = {state->affine.x(), state->affine.y()};
+    inverse_distances = state->inverse_distances;
+    const auto result = work();
+    state->T_world_frame = SE3d::fromParameters(pose.data());
+    state->affine = Eigen::Vector2d(affine[0], affine[1]);
+    state->inverse_distances = inverse_distances;
+    pose = saved_pose;
+    affine = saved_affine;
+    inverse_distances = saved_distances;
+    return result;
   }
 
   // Angle between the bearings of the image centre and the pixel beside it.
@@ -284,6 +410,30 @@ void Initializer::setFirstFrame(std::shared_ptr<const ImagePyramid> pyramid, dou
   impl_->status = "first frame set with " + std::to_string(impl_->pixels.size()) + " points";
 }
 
+InitializerState Initializer::state() const {
+  return {SE3d::fromParameters(impl_->pose.data()),
+          Eigen::Vector2d(impl_->affine[0], impl_->affine[1]), impl_->inverse_distances};
+}
+
+InitializerLevelSolve Initializer::solveLevel(const ImagePyramid& frame, double exposure,
+                                              int level, bool snapped, InitializerState* state) {
+  std::vector<bool> valid;
+  return impl_->withState(state, [&] {
+    return impl_->solveLevel(level, frame, exposure, snapped, &valid);
+  });
+}
+
+std::vector<double> Initializer::rotationSearchCosts(const ImagePyramid& frame, double exposure,
+                                                     int level, bool snapped,
+                                                     const InitializerState& state,
+                                                     const std::vector<SE3d>& candidates) {
+  if (candidates.empty()) return {};
+  InitializerState copy = state;
+  return impl_->withState(&copy, [&] {
+    return impl_->candidateCosts(level, frame, exposure, snapped, candidates);
+  });
+}
+
 InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exposure) {
   InitializationResult result;
   if (!hasFirstFrame()) throw Error("Initializer::addFrame before setFirstFrame");
@@ -297,7 +447,7 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
   double rmse = std::numeric_limits<double>::infinity();
   auto solveAllLevels = [&](bool snapped) {
     for (int level = levels - 1; level >= 0; --level)
-      rmse = impl_->solveLevel(level, frame, exposure, snapped, &valid);
+      rmse = impl_->solveLevel(level, frame, exposure, snapped, &valid).rmse;
   };
   const bool snapped_before = impl_->snapped_at >= 0;
   {  // start: the rotation search around the constant-velocity prediction and the last pose
