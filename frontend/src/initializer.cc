@@ -72,6 +72,8 @@ struct Initializer::Impl {
   std::array<double, 2> host_affine{};
   Eigen::VectorXd intrinsics;
   SE3Manifold manifold;
+  // The native path's patches per level, for the current first frame (buildNativeLevel).
+  std::vector<std::unique_ptr<InitializerLevelPatchesBase>> level_patches;
   int frames_tried = 0;
   int snapped_at = -1;  // frames_tried when the parallax first sufficed; -1 before
   std::string status = "no frame yet";
@@ -221,7 +223,6 @@ struct Initializer::Impl {
   // the margin, valid at the current values), the same regularisers and prior.
   struct NativeLevel {
     std::unique_ptr<ceres::LossFunction> loss;
-    std::unique_ptr<InitializerPatches> patches;
     std::vector<size_t> points;  // into pixels
     InitializerLevelProblem problem;
   };
@@ -229,12 +230,21 @@ struct Initializer::Impl {
   NativeLevel buildNativeLevel(int level, const ImagePyramid& frame, double exposure,
                                bool snapped) {
     NativeLevel nl;
-    nl.patches = withResidualModel<std::unique_ptr<InitializerPatches>>(
-        camera, [&](auto tag, const auto& model) { return makePatches(tag, model, level, frame, exposure, &nl.points); });
+    InitializerLevelPatchesBase& patches = levelPatches(level);
+    patches.setFrame(frame.level(level), frame.content(level), exposure);
+    patches.setPoint(pose.data(), affine.data());
+    const ImageF& host_image = first->level(level);
+    for (size_t i = 0; i < pixels.size(); ++i) {
+      const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
+      if (!insideMargin(p, host_image)) continue;
+      if (patches.addIfValid(makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p),
+                             inverse_distances[i]))
+        nl.points.push_back(i);
+    }
     const double lambda = snapped ? options.regularizer_weight : options.pre_snap_regularizer_weight;
     nl.loss.reset(makePhotometricLoss(kWindowPatternSize, options.huber_threshold));
     InitializerLevelProblem& p = nl.problem;
-    p.patches = nl.patches.get();
+    p.patches = &patches;
     p.loss = nl.loss.get();
     p.invalid_residual = std::sqrt(kDsoOutlierEnergyPerPixel * kWindowPatternSize / kWindowPatternSize);
     p.regularizer_sqrt_weight = std::sqrt(lambda);
@@ -246,25 +256,24 @@ struct Initializer::Impl {
     return nl;
   }
 
+  // The patches of `level`, made once for the camera's model (model_dispatch.hpp).
+  InitializerLevelPatchesBase& levelPatches(int level) {
+    if (level_patches.size() <= static_cast<size_t>(level)) level_patches.resize(level + 1);
+    std::unique_ptr<InitializerLevelPatchesBase>& patches = level_patches[static_cast<size_t>(level)];
+    if (!patches)
+      patches = withResidualModel<std::unique_ptr<InitializerLevelPatchesBase>>(
+          camera, [&](auto tag, const auto& model) { return makePatches(tag, model, level); });
+    return *patches;
+  }
+
   template <template <typename> class M>
-  std::unique_ptr<InitializerPatches> makePatches(ModelTag<M>, const M<double>& model, int level,
-                                                  const ImagePyramid& frame, double exposure,
-                                                  std::vector<size_t>* points) const {
+  std::unique_ptr<InitializerLevelPatchesBase> makePatches(ModelTag<M>, const M<double>& model,
+                                                           int level) const {
     typename M<double>::VecN params = model.params();
     scaleIntrinsicsToLevel(params, level);
-    auto patches = std::make_unique<InitializerLevelPatches<M>>(
-        M<double>(params), frame.level(level), frame.content(level), first_exposure, exposure,
-        host_pose.data(), host_affine.data());
-    patches->setPoint(pose.data(), affine.data());
-    const ImageF& host_image = first->level(level);
-    for (size_t i = 0; i < pixels.size(); ++i) {
-      const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
-      if (!insideMargin(p, host_image)) continue;
-      if (patches->addIfValid(makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p),
-                              inverse_distances[i]))
-        points->push_back(i);
-    }
-    return patches;
+    return std::make_unique<InitializerLevelPatches<M>>(M<double>(params), first_exposure,
+                                                        host_pose.data(), host_affine.data(),
+                                                        pixels.size());
   }
 
   static bool insideMargin(const Eigen::Vector2d& p, const ImageF& image) {
@@ -403,6 +412,7 @@ void Initializer::setFirstFrame(std::shared_ptr<const ImagePyramid> pyramid, dou
   impl_->reset();
   impl_->pixels.clear();
   impl_->inverse_distances.clear();
+  impl_->level_patches.clear();  // their host exposure and capacity are the first frame's
   for (const SelectedPixel& p : selectPixels(*impl_->first, impl_->mask, impl_->options.selection)) {
     impl_->pixels.push_back(p.pixel.cast<double>());
     impl_->inverse_distances.push_back(1.0);

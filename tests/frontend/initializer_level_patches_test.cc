@@ -74,9 +74,9 @@ TEST(InitializerLevelPatchesTest, JacobianMatchesNumericDifferencesAndTheCeresCo
     if (!test::targetPixels<Ucm>(obs, blocks, &pixels) ||
         !test::awayFromCellEdges(pixels, test::kCellEdgeMargin))
       continue;
-    InitializerLevelPatches<UnifiedCamera> patches(Ucm::camera(), target, nullptr, 1.0,
-                                                   frame_exposure, host_pose.data(),
-                                                   host_affine.data());
+    InitializerLevelPatches<UnifiedCamera> patches(Ucm::camera(), 1.0, host_pose.data(),
+                                                   host_affine.data(), 1);
+    patches.setFrame(target, nullptr, frame_exposure);
     patches.setPoint(blocks.target_pose.data(), blocks.target_affine.data());
     if (!patches.addIfValid(obs.host, blocks.inverse_distance)) continue;
     SCOPED_TRACE(testing::Message() << "pixel " << obs.host.pixel.transpose());

@@ -15,30 +15,48 @@
 #include <omnidso/frontend/initializer_solver.hpp>
 #include <omnidso/residuals/image_sampler.hpp>
 #include <omnidso/residuals/photometric_kernel.hpp>
+#include <optional>
 #include <vector>
 
 namespace omnidso {
 
+// The patches of one level, kept by the initialiser for the first frame's lifetime and
+// refilled for every problem (frame, level, start), so that their ≈ 1 kB per point of
+// storage is allocated once and not for every problem of every frame.
+class InitializerLevelPatchesBase : public InitializerPatches {
+ public:
+  // Empties the patches and sets the frame's level image, its content and its exposure.
+  virtual void setFrame(const ImageF& image, const Mask* content, double frame_exposure) = 0;
+  // Adds the patch if it is valid at inverse distance d and the current point (setPoint):
+  // the Ceres path's test (PhotometricResidualFactory::status, the same kernel).
+  virtual bool addIfValid(const HostPatch<kPatchSize>& host, double d) = 0;
+};
+
 template <template <typename> class M>
-class InitializerLevelPatches final : public InitializerPatches {
+class InitializerLevelPatches final : public InitializerLevelPatchesBase {
   static constexpr int K = M<double>::kNumParams;
 
  public:
-  // `level_camera`: the model with the level's intrinsics; `image`, `content`: the frame's
-  // level; the host pose and affine blocks (identity, zero) as the Ceres path passes them.
-  InitializerLevelPatches(const M<double>& level_camera, const ImageF& image, const Mask* content,
-                          double host_exposure, double frame_exposure, const double* host_pose,
-                          const double* host_affine)
+  // `level_camera`: the model with the level's intrinsics; the host pose and affine blocks
+  // (identity, zero) as the Ceres path passes them; room for `capacity` patches.
+  InitializerLevelPatches(const M<double>& level_camera, double host_exposure,
+                          const double* host_pose, const double* host_affine, size_t capacity)
       : camera_(level_camera),
-        sampler_(image, ImageInterpolation::kBilinear, content),
         host_exposure_(host_exposure),
-        frame_exposure_(frame_exposure),
         host_pose_(host_pose),
-        host_affine_(host_affine) {}
+        host_affine_(host_affine) {
+    hosts_.reserve(capacity);
+    bearings_.reserve(capacity);
+  }
 
-  // Adds the patch if it is valid at inverse distance d and the current point (setPoint):
-  // the Ceres path's test (PhotometricResidualFactory::status, the same kernel).
-  bool addIfValid(const HostPatch<kPatchSize>& host, double d) {
+  void setFrame(const ImageF& image, const Mask* content, double frame_exposure) override {
+    sampler_.emplace(image, ImageInterpolation::kBilinear, content);
+    frame_exposure_ = frame_exposure;
+    hosts_.clear();
+    bearings_.clear();
+  }
+
+  bool addIfValid(const HostPatch<kPatchSize>& host, double d) override {
     hosts_.push_back(host);
     bearings_.emplace_back();
     unprojectHostPattern(camera_, host, false, &bearings_.back());
@@ -58,7 +76,7 @@ class InitializerLevelPatches final : public InitializerPatches {
     const size_t k = static_cast<size_t>(i);
     PatchDerivatives<kPatchSize, K> patch;
     const bool jacobians = J_f != nullptr;
-    if (evaluatePhotometricPatch(camera_, sampler_, hosts_[k], bearings_[k], pair_, d, r->data(),
+    if (evaluatePhotometricPatch(camera_, *sampler_, hosts_[k], bearings_[k], pair_, d, r->data(),
                                  jacobians ? &patch : nullptr, false) != PhotometricStatus::kValid)
       return false;
     if (!jacobians) return true;
@@ -77,8 +95,8 @@ class InitializerLevelPatches final : public InitializerPatches {
 
  private:
   M<double> camera_;
-  ImageSampler sampler_;
-  double host_exposure_, frame_exposure_;
+  std::optional<ImageSampler> sampler_;
+  double host_exposure_, frame_exposure_ = 1.0;
   const double* host_pose_;
   const double* host_affine_;
   std::vector<HostPatch<kPatchSize>> hosts_;
