@@ -52,22 +52,23 @@ class InitializerLevelPatches final : public InitializerLevelPatchesBase {
   void setFrame(const ImageF& image, const Mask* content, double frame_exposure) override {
     sampler_.emplace(image, ImageInterpolation::kBilinear, content);
     frame_exposure_ = frame_exposure;
-    hosts_.clear();
-    bearings_.clear();
+    size_ = 0;  // the storage is kept and overwritten (no allocation, no zeroing)
   }
 
   bool addIfValid(const HostPatch<kPatchSize>& host, double d) override {
-    hosts_.push_back(host);
-    bearings_.emplace_back();
-    unprojectHostPattern(camera_, host, false, &bearings_.back());
+    if (hosts_.size() == size_) {
+      hosts_.emplace_back();
+      bearings_.emplace_back();
+    }
+    hosts_[size_] = host;
+    unprojectHostPattern(camera_, host, false, &bearings_[size_]);
     Residuals r;
-    if (evaluate(size() - 1, d, &r, nullptr, nullptr)) return true;
-    hosts_.pop_back();
-    bearings_.pop_back();
-    return false;
+    if (!evaluate(static_cast<int>(size_), d, &r, nullptr, nullptr)) return false;
+    ++size_;
+    return true;
   }
 
-  int size() const override { return static_cast<int>(hosts_.size()); }
+  int size() const override { return static_cast<int>(size_); }
   void setPoint(const double* pose, const double* affine) override {
     pair_ = makePhotometricPair(host_pose_, pose, host_affine_, affine, host_exposure_,
                                 frame_exposure_);
@@ -101,6 +102,7 @@ class InitializerLevelPatches final : public InitializerLevelPatchesBase {
   const double* host_affine_;
   std::vector<HostPatch<kPatchSize>> hosts_;
   std::vector<HostBearings<kPatchSize, K>> bearings_;
+  size_t size_ = 0;  // patches in use: the first size_ of hosts_ and bearings_
   PhotometricPair pair_;
 };
 
