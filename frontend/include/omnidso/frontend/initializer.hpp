@@ -2,8 +2,9 @@
 // Two-frame photometric initialisation, coarse to fine (DSO's coarse initialiser; paper
 // Sec. V): candidate pixels of the first frame start at inverse distance 1; every following
 // frame is aligned to the first by jointly optimising the relative pose, the frame's affine
-// brightness and every point's inverse distance — photometric residuals (eq. 5–7) in one
-// Ceres problem per pyramid level, coarse to fine, starting from a rotation search (below).
+// brightness and every point's inverse distance — photometric residuals (eq. 5–7), one
+// problem per pyramid level, coarse to fine, starting from a rotation search (below), solved
+// natively (initializer_solver.hpp) or by Ceres (InitializerOptions::native_solver).
 // The inverse distances are regularised,
 //   r_reg = √λ · (d − d̄),
 // strongly (λ = pre_snap_regularizer_weight, d̄ = 1, and the translation too:
