@@ -1,266 +1,64 @@
-#include <ceres/ceres.h>
-
+// The initialiser's facade (initializer_impl.hpp): a frame's start by the rotation search,
+// its levels coarse to fine, the snap, the scale; the parallax; the state-based hooks.
+#include <algorithm>
 #include <cmath>
-#include <numeric>
-#include <omnidso/backend/affine_prior.hpp>
-#include <omnidso/backend/photometric_factory.hpp>
-#include <omnidso/cameras/pyramid_scaling.hpp>
-#include <omnidso/core/error.hpp>
-#include <omnidso/frontend/initializer.hpp>
-#include <omnidso/residuals/residual_pattern.hpp>
-#include <omnidso/residuals/out_of_bounds_penalty.hpp>
-#include <omnidso/residuals/se3_manifold.hpp>
+#include <limits>
 #include <sstream>
 
+#include "initializer_impl.hpp"
+
 namespace omnidso {
-namespace {
 
-// r = √λ (d − d̄): keeps unobservable inverse distances together (header comment).
-class InverseDistanceRegularizer final : public ceres::SizedCostFunction<1, 1> {
- public:
-  InverseDistanceRegularizer(double sqrt_weight, double mean)
-      : sqrt_weight_(sqrt_weight), mean_(mean) {}
-  bool Evaluate(double const* const* x, double* r, double** J) const override {
-    r[0] = sqrt_weight_ * (x[0][0] - mean_);
-    if (J && J[0]) J[0][0] = sqrt_weight_;
-    return true;
+void Initializer::Impl::searchRotationStart(int level, const ImagePyramid& frame, double exposure,
+                                            bool snapped, const std::vector<SE3d>& centres) {
+  const int half = options.rotation_search_half_width;
+  if (half <= 0 || !(options.rotation_search_step_px > 0) || centres.empty()) return;
+  const double step = options.rotation_search_step_px * std::ldexp(1.0, level) * radiansPerPixel();
+  if (!(step > 0)) return;
+  std::vector<SE3d> candidates = {centres.front()};  // first: the prediction wins ties
+  for (const SE3d& centre : centres)
+    for (int x = -half; x <= half; ++x)
+      for (int y = -half; y <= half; ++y)
+        for (int z = -half; z <= half; ++z) {
+          Eigen::Matrix<double, 6, 1> xi;
+          xi << 0, 0, 0, x * step, y * step, z * step;
+          candidates.push_back(centre * SE3d::exp(xi));  // turned in the frame
+        }
+  const std::vector<double> costs = candidateCosts(level, frame, exposure, snapped, candidates);
+  size_t best = 0;
+  for (size_t k = 1; k < costs.size(); ++k)
+    if (costs[k] < costs[best]) best = k;
+  candidates[best].toParameters(pose.data());
+}
+
+
+double Initializer::Impl::radiansPerPixel() const {
+  const Eigen::Vector2d c(0.5 * (camera.width() - 1), 0.5 * (camera.height() - 1));
+  Eigen::Vector3d a, b;
+  if (!camera.unproject(c, a) || !camera.unproject(c + Eigen::Vector2d(1.0, 0.0), b)) return 0.0;
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
+}
+
+
+double Initializer::Impl::parallax(const std::vector<bool>& valid) const {
+  const SE3d T = SE3d::fromParameters(pose.data());
+  double sum = 0.0;
+  int n = 0;
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    if (!valid[i]) continue;
+    Eigen::Vector3d b;
+    Eigen::Vector2d u;
+    // T_world_frame = T_first_frame: the point in the frame is T⁻¹ x; translation only.
+    const SE3d T_frame_first = T.inverse();
+    if (!camera.unproject(pixels[i], b) ||
+        !camera.project(b + inverse_distances[i] * T_frame_first.translation(), u))
+      continue;
+    sum += (u - pixels[i]).squaredNorm();
+    ++n;
   }
+  return n ? std::sqrt(sum / n) : 0.0;
+}
 
- private:
-  double sqrt_weight_, mean_;
-};
-
-// r = √(λ N) · t, t the frame's position in the first frame (pose parameters 4–6): before
-// the snap, the motion is explained by rotation unless translation is clearly needed
-// (header comment).
-class TranslationRegularizer final : public ceres::SizedCostFunction<3, 7> {
- public:
-  explicit TranslationRegularizer(double sqrt_weight) : sqrt_weight_(sqrt_weight) {}
-  bool Evaluate(double const* const* x, double* r, double** J) const override {
-    for (int k = 0; k < 3; ++k) r[k] = sqrt_weight_ * x[0][4 + k];
-    if (J && J[0]) {
-      Eigen::Map<Eigen::Matrix<double, 3, 7, Eigen::RowMajor>> j(J[0]);
-      j.setZero();
-      j.rightCols<3>().diagonal().setConstant(sqrt_weight_);
-    }
-    return true;
-  }
-
- private:
-  double sqrt_weight_;
-};
-
-}  // namespace
-
-struct Initializer::Impl {
-  Camera camera;
-  Mask mask;
-  InitializerOptions options;
-  std::unique_ptr<PhotometricResidualFactory> factory;
-  std::shared_ptr<const ImagePyramid> first;
-  double first_exposure = 1.0;
-  std::vector<Eigen::Vector2d> pixels;
-  std::vector<double> inverse_distances;
-  std::array<double, 7> pose{};  // T_world_frame with the first frame at the identity
-  std::array<double, 7> pose_before{};  // the solution of the frame before the last
-  std::array<double, 2> affine{};
-  std::array<double, 7> host_pose{};
-  std::array<double, 2> host_affine{};
-  Eigen::VectorXd intrinsics;
-  SE3Manifold manifold;
-  int frames_tried = 0;
-  int snapped_at = -1;  // frames_tried when the parallax first sufficed; -1 before
-  std::string status = "no frame yet";
-
-  Impl(const Camera& c, const Mask& m, InitializerOptions o)
-      : camera(c),
-        mask(m),
-        options(std::move(o)),
-        factory(PhotometricResidualFactory::forModel(c.modelName())),
-        intrinsics(c.params()) {}
-
-  void reset() {
-    SE3d().toParameters(pose.data());
-    SE3d().toParameters(pose_before.data());
-    SE3d().toParameters(host_pose.data());
-    affine = {0.0, 0.0};
-    host_affine = {0.0, 0.0};
-    frames_tried = 0;
-    snapped_at = -1;
-  }
-
-  // One level's problem: a photometric residual for every point that projects validly from
-  // the current pose, its distance regulariser, and the frame's affine prior. Before the snap
-  // the distances are tied to 1 and the translation to 0 (fixing the scale the translation
-  // penalty would otherwise shrink away); after it, the distances to their mean only.
-  struct LevelProblem {
-    std::unique_ptr<ceres::LossFunction> loss;
-    std::unique_ptr<ceres::Problem> problem;
-    std::vector<std::pair<size_t, ceres::ResidualBlockId>> blocks;
-  };
-
-  LevelProblem buildLevel(int level, const ImagePyramid& frame, double exposure, bool snapped) {
-    const double lambda = snapped ? options.regularizer_weight : options.pre_snap_regularizer_weight;
-    const ImageF& host_image = first->level(level);
-    const double margin = patternRadius<kWindowPatternSize>() + 1.0;
-    ceres::Problem::Options po;
-    po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    LevelProblem lp;
-    lp.problem = std::make_unique<ceres::Problem>(po);
-    lp.loss.reset(makePhotometricLoss(kWindowPatternSize, options.huber_threshold));
-    ceres::Problem& problem = *lp.problem;
-    problem.AddParameterBlock(pose.data(), 7, &manifold);
-    problem.AddParameterBlock(host_pose.data(), 7, &manifold);
-    problem.SetParameterBlockConstant(host_pose.data());
-    problem.AddParameterBlock(host_affine.data(), 2);
-    problem.SetParameterBlockConstant(host_affine.data());
-    problem.AddParameterBlock(affine.data(), 2);
-    if (options.affine_prior_weight_a > 0 || options.affine_prior_weight_b > 0)
-      problem.AddResidualBlock(new AffinePrior(Eigen::Vector2d::Zero(), options.affine_prior_weight_a,
-                                               options.affine_prior_weight_b),
-                               nullptr, affine.data());
-    problem.AddParameterBlock(intrinsics.data(), static_cast<int>(intrinsics.size()));
-    problem.SetParameterBlockConstant(intrinsics.data());
-    const double mean_d =
-        snapped ? std::accumulate(inverse_distances.begin(), inverse_distances.end(), 0.0) /
-                      std::max<size_t>(1, inverse_distances.size())
-                : 1.0;
-    for (size_t i = 0; i < pixels.size(); ++i) {
-      const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
-      if (p.x() < margin || p.y() < margin || p.x() > host_image.width() - 1 - margin ||
-          p.y() > host_image.height() - 1 - margin)
-        continue;
-      WindowObservation obs;
-      obs.host = makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p);
-      obs.target_image = &frame.level(level);
-      obs.target_content = frame.content(level);
-      obs.host_exposure = first_exposure;
-      obs.target_exposure = exposure;
-      obs.level = level;
-      double* params[] = {host_pose.data(), pose.data(), &inverse_distances[i],
-                          host_affine.data(), affine.data(), intrinsics.data()};
-      if (factory->status(obs, params) != PhotometricStatus::kValid) continue;
-      lp.blocks.emplace_back(
-          i, problem.AddResidualBlock(
-                 new OutOfBoundsPenalty(factory->makeCost(DifferentiationMode::kAnalytic, obs),
-                                        kDsoOutlierEnergyPerPixel * kWindowPatternSize),
-                 lp.loss.get(), std::vector<double*>(params, params + 6)));
-      problem.AddResidualBlock(
-          new InverseDistanceRegularizer(std::sqrt(lambda), mean_d), nullptr,
-          &inverse_distances[i]);
-    }
-    if (!snapped && options.pre_snap_translation_penalty && !lp.blocks.empty())
-      problem.AddResidualBlock(
-          new TranslationRegularizer(std::sqrt(lambda * static_cast<double>(lp.blocks.size()))),
-          nullptr, pose.data());
-    return lp;
-  }
-
-  // One level: returns the RMS residual over valid pattern pixels, and the valid mask.
-  double solveLevel(int level, const ImagePyramid& frame, double exposure, bool snapped,
-                    std::vector<bool>* valid_points) {
-    valid_points->assign(pixels.size(), false);
-    LevelProblem lp = buildLevel(level, frame, exposure, snapped);
-    if (lp.blocks.empty()) return std::numeric_limits<double>::infinity();
-    {
-      ceres::Solver::Options so;
-      auto* ordering = new ceres::ParameterBlockOrdering;
-      for (const auto& [i, id] : lp.blocks) ordering->AddElementToGroup(&inverse_distances[i], 0);
-      // One group each: Ceres orders a group's blocks by address, which would make the
-      // reduced system's column order (and its last bits) depend on the heap layout.
-      int group = 1;
-      for (double* b : {pose.data(), host_pose.data(), host_affine.data(), affine.data(),
-                        intrinsics.data()})
-        ordering->AddElementToGroup(b, group++);
-      so.linear_solver_ordering.reset(ordering);
-      so.linear_solver_type = ceres::DENSE_SCHUR;
-      so.max_num_iterations = options.max_iterations_per_level;
-      so.logging_type = ceres::SILENT;
-      ceres::Solver::Summary summary;
-      ceres::Solve(so, lp.problem.get(), &summary);
-    }
-    double sum = 0.0;
-    int n = 0;
-    for (const auto& [i, id] : lp.blocks) {
-      // The wrapped residual's energy; infinite where it is out of bounds or its inverse
-      // distance went negative (it only carried the penalty then).
-      const double energy = rawEnergy(*lp.problem, id);
-      if (!std::isfinite(energy)) continue;
-      (*valid_points)[i] = true;
-      sum += energy;
-      n += kWindowPatternSize;
-    }
-    return n ? std::sqrt(sum / n) : std::numeric_limits<double>::infinity();
-  }
-
-  // The start of the coarsest level (header comment): the best, by cost, of every rotation
-  // on a grid around each of `centres` (the constant-velocity prediction, then the last
-  // solution) — steps of `rotation_search_step_px` at that level, converted to an angle
-  // through the camera's resolution at the image centre. A fast turn moves the image further
-  // than the alignment's basin (≈ 1–2 px at the coarsest level), and a sudden stop puts the
-  // truth far from the prediction; the cost at the grid's nodes tells which basin to start
-  // from.
-  void searchRotationStart(int level, const ImagePyramid& frame, double exposure, bool snapped,
-                           const std::vector<SE3d>& centres) {
-    const int half = options.rotation_search_half_width;
-    if (half <= 0 || !(options.rotation_search_step_px > 0) || centres.empty()) return;
-    const double step = options.rotation_search_step_px * std::ldexp(1.0, level) * radiansPerPixel();
-    if (!(step > 0)) return;
-    centres.front().toParameters(pose.data());
-    LevelProblem lp = buildLevel(level, frame, exposure, snapped);
-    if (lp.blocks.empty()) return;
-    auto costAt = [&](const SE3d& candidate) {
-      candidate.toParameters(pose.data());
-      double cost = 0.0;
-      lp.problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
-      return cost;
-    };
-    double best_cost = costAt(centres.front());  // first: the prediction wins ties
-    SE3d best = centres.front();
-    for (const SE3d& centre : centres)
-      for (int x = -half; x <= half; ++x)
-        for (int y = -half; y <= half; ++y)
-          for (int z = -half; z <= half; ++z) {
-            Eigen::Matrix<double, 6, 1> xi;
-            xi << 0, 0, 0, x * step, y * step, z * step;
-            const SE3d candidate = centre * SE3d::exp(xi);  // turned in the frame
-            const double cost = costAt(candidate);
-            if (cost < best_cost) {
-              best_cost = cost;
-              best = candidate;
-            }
-          }
-    best.toParameters(pose.data());
-  }
-
-  // Angle between the bearings of the image centre and the pixel beside it.
-  double radiansPerPixel() const {
-    const Eigen::Vector2d c(0.5 * (camera.width() - 1), 0.5 * (camera.height() - 1));
-    Eigen::Vector3d a, b;
-    if (!camera.unproject(c, a) || !camera.unproject(c + Eigen::Vector2d(1.0, 0.0), b)) return 0.0;
-    return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
-  }
-
-  double parallax(const std::vector<bool>& valid) const {
-    const SE3d T = SE3d::fromParameters(pose.data());
-    double sum = 0.0;
-    int n = 0;
-    for (size_t i = 0; i < pixels.size(); ++i) {
-      if (!valid[i]) continue;
-      Eigen::Vector3d b;
-      Eigen::Vector2d u;
-      // T_world_frame = T_first_frame: the point in the frame is T⁻¹ x; translation only.
-      const SE3d T_frame_first = T.inverse();
-      if (!camera.unproject(pixels[i], b) ||
-          !camera.project(b + inverse_distances[i] * T_frame_first.translation(), u))
-        continue;
-      sum += (u - pixels[i]).squaredNorm();
-      ++n;
-    }
-    return n ? std::sqrt(sum / n) : 0.0;
-  }
-};
 
 Initializer::Initializer(const Camera& camera, const Mask& mask, InitializerOptions options)
     : impl_(std::make_unique<Impl>(camera, mask, std::move(options))) {}
@@ -277,11 +75,36 @@ void Initializer::setFirstFrame(std::shared_ptr<const ImagePyramid> pyramid, dou
   impl_->reset();
   impl_->pixels.clear();
   impl_->inverse_distances.clear();
+  impl_->level_patches.clear();  // their host exposure and capacity are the first frame's
   for (const SelectedPixel& p : selectPixels(*impl_->first, impl_->mask, impl_->options.selection)) {
     impl_->pixels.push_back(p.pixel.cast<double>());
     impl_->inverse_distances.push_back(1.0);
   }
   impl_->status = "first frame set with " + std::to_string(impl_->pixels.size()) + " points";
+}
+
+InitializerState Initializer::state() const {
+  return {SE3d::fromParameters(impl_->pose.data()),
+          Eigen::Vector2d(impl_->affine[0], impl_->affine[1]), impl_->inverse_distances};
+}
+
+InitializerLevelSolve Initializer::solveLevel(const ImagePyramid& frame, double exposure,
+                                              int level, bool snapped, InitializerState* state) {
+  std::vector<bool> valid;
+  return impl_->withState(state, [&] {
+    return impl_->solveLevel(level, frame, exposure, snapped, &valid);
+  });
+}
+
+std::vector<double> Initializer::rotationSearchCosts(const ImagePyramid& frame, double exposure,
+                                                     int level, bool snapped,
+                                                     const InitializerState& state,
+                                                     const std::vector<SE3d>& candidates) {
+  if (candidates.empty()) return {};
+  InitializerState copy = state;
+  return impl_->withState(&copy, [&] {
+    return impl_->candidateCosts(level, frame, exposure, snapped, candidates);
+  });
 }
 
 InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exposure) {
@@ -297,7 +120,7 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
   double rmse = std::numeric_limits<double>::infinity();
   auto solveAllLevels = [&](bool snapped) {
     for (int level = levels - 1; level >= 0; --level)
-      rmse = impl_->solveLevel(level, frame, exposure, snapped, &valid);
+      rmse = impl_->solveLevel(level, frame, exposure, snapped, &valid).rmse;
   };
   const bool snapped_before = impl_->snapped_at >= 0;
   {  // start: the rotation search around the constant-velocity prediction and the last pose

@@ -86,6 +86,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"initializer.min_points", &o.initializer.min_points},
       {"initializer.max_frames", &o.initializer.max_frames},
       {"initializer.huber_threshold", &o.initializer.huber_threshold},
+      {"initializer.native_solver", &o.initializer.native_solver},
       {"selection.threshold_block_size", &o.initializer.selection.threshold_block_size},
       {"selection.gradient_threshold_offset", &o.initializer.selection.gradient_threshold_offset},
       {"selection.coarser_level_factor", &o.initializer.selection.coarser_level_factor},

@@ -2,8 +2,9 @@
 // Two-frame photometric initialisation, coarse to fine (DSO's coarse initialiser; paper
 // Sec. V): candidate pixels of the first frame start at inverse distance 1; every following
 // frame is aligned to the first by jointly optimising the relative pose, the frame's affine
-// brightness and every point's inverse distance — photometric residuals (eq. 5–7) in one
-// Ceres problem per pyramid level, coarse to fine, starting from a rotation search (below).
+// brightness and every point's inverse distance — photometric residuals (eq. 5–7), one
+// problem per pyramid level, coarse to fine, starting from a rotation search (below), solved
+// natively (initializer_solver.hpp) or by Ceres (InitializerOptions::native_solver).
 // The inverse distances are regularised,
 //   r_reg = √λ · (d − d̄),
 // strongly (λ = pre_snap_regularizer_weight, d̄ = 1, and the translation too:
@@ -53,7 +54,26 @@ struct InitializerOptions {
   int min_points = 50;
   int max_frames = 60;                 // give up (and restart from a newer frame) after this
   double huber_threshold = 9.0;
+  // Each level and the rotation search's costs by the native solve (initializer_solver.hpp:
+  // the same Levenberg–Marquardt as ceres::Solve, the points eliminated by the Schur
+  // complement) instead of a ceres::Problem per frame, level and hypothesis. Setting
+  // `initializer.native_solver`; false keeps the Ceres path (the oracle).
+  bool native_solver = true;
   PixelSelectorOptions selection;
+};
+
+// What addFrame solves, from outside (the tests that hold the native solve against Ceres's).
+struct InitializerState {
+  SE3d T_world_frame;                       // the first frame at the identity
+  Eigen::Vector2d affine = Eigen::Vector2d::Zero();
+  std::vector<double> inverse_distances;    // one per point of the first frame
+};
+
+struct InitializerLevelSolve {
+  double rmse = 0.0;     // RMS residual over the valid patches' pixels; +∞ with none
+  int num_valid = 0;     // patches valid at the result
+  int num_points = 0;    // patches in the level's problem (valid at the start)
+  int iterations = -1;   // the solver's; −1 where nothing was solved
 };
 
 struct InitializationResult {
@@ -79,6 +99,17 @@ class Initializer {
   InitializationResult addFrame(const ImagePyramid& frame, double exposure);
   // A human-readable account of the last attempt (why it is not done yet).
   const std::string& status() const;
+
+  // The steps of addFrame, on a given state instead of the initialiser's own (which they
+  // leave unchanged): the current state; one level's solve (before or after the snap);
+  // and the rotation search's cost at each candidate pose (the points selected at
+  // candidates[0]), the search taking the first of the least.
+  InitializerState state() const;
+  InitializerLevelSolve solveLevel(const ImagePyramid& frame, double exposure, int level,
+                                   bool snapped, InitializerState* state);
+  std::vector<double> rotationSearchCosts(const ImagePyramid& frame, double exposure, int level,
+                                          bool snapped, const InitializerState& state,
+                                          const std::vector<SE3d>& candidates);
 
  private:
   struct Impl;
