@@ -61,6 +61,17 @@ const WindowFixture& fixture() {
   return f;
 }
 
+// The fixture's 7 keyframes and up to 2000 of its points, distances 5 % off.
+std::unique_ptr<SlidingWindow> makeWindow(const WindowFixture& f, const WindowOptions& options) {
+  auto window = std::make_unique<SlidingWindow>(f.camera.modelName(), f.camera.params(), options);
+  for (int k = 0; k < 7; ++k)
+    window->addKeyframe(k, 0.05 * k, 1.0, f.poses[k], Eigen::Vector2d::Zero(), f.images[k]);
+  int added = 0;
+  for (const auto& [host, pixel, d] : f.points)
+    if (added < 2000 && window->addPoint(host, pixel, d * 1.05) >= 0) ++added;
+  return window;
+}
+
 void BM_WindowOptimization(benchmark::State& state, DifferentiationMode mode, int max_iterations,
                            bool reuse_evaluations, bool native_solver) {
   const WindowFixture& f = fixture();
@@ -74,12 +85,7 @@ void BM_WindowOptimization(benchmark::State& state, DifferentiationMode mode, in
     options.max_iterations = max_iterations;
     options.reuse_evaluations = reuse_evaluations;
     options.native_solver = native_solver;
-    auto window = std::make_unique<SlidingWindow>(f.camera.modelName(), f.camera.params(), options);
-    for (int k = 0; k < 7; ++k)
-      window->addKeyframe(k, 0.05 * k, 1.0, f.poses[k], Eigen::Vector2d::Zero(), f.images[k]);
-    int added = 0;
-    for (const auto& [host, pixel, d] : f.points)
-      if (added < 2000 && window->addPoint(host, pixel, d * 1.05) >= 0) ++added;
+    auto window = makeWindow(f, options);
     num_points = window->numPoints();
     num_residuals = window->numResiduals();
     state.ResumeTiming();
@@ -139,12 +145,7 @@ void BM_MarginalizeOldestKeyframe(benchmark::State& state) {
     WindowOptions options;
     options.max_keyframes = 7;
     options.max_iterations = 2;
-    auto window = std::make_unique<SlidingWindow>(f.camera.modelName(), f.camera.params(), options);
-    for (int k = 0; k < 7; ++k)
-      window->addKeyframe(k, 0.05 * k, 1.0, f.poses[k], Eigen::Vector2d::Zero(), f.images[k]);
-    int added = 0;
-    for (const auto& [host, pixel, d] : f.points)
-      if (added < 2000 && window->addPoint(host, pixel, d * 1.05) >= 0) ++added;
+    auto window = makeWindow(f, options);
     window->optimize();
     const int points_before = window->numPoints();
     state.ResumeTiming();
