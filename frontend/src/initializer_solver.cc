@@ -1,13 +1,13 @@
 // The initialiser's native level solve (initializer_solver.hpp): the objective with the
-// points' and the frame's parts of the normal equations, the Schur-complement step, and the
-// Levenberg–Marquardt loop in the order of Ceres 2.1's TrustRegionMinimizer (as
-// tracker_solver.cc's): iteration 0, then per iteration the step, its validity, the
-// candidate, the tolerances, accept or reject and the trust-region update.
+// points' and the frame's parts of the normal equations, iteration 0, and the
+// Schur-complement step for the Levenberg–Marquardt iterations of Ceres 2.1's
+// TrustRegionMinimizer (backend/levenberg_marquardt_loop.hpp, shared with the tracker).
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <omnidso/backend/levenberg_marquardt_loop.hpp>
 #include <omnidso/backend/robust_correction.hpp>
 #include <omnidso/core/se3.hpp>
 #include <omnidso/frontend/initializer_solver.hpp>
@@ -215,6 +215,50 @@ double modelCostChange(const Equations& eq, const Vector8& delta_f, const Eigen:
   return -(delta_f.dot(eq.g) + delta_p.dot(eq.g_p)) - 0.5 * curvature;
 }
 
+// One level's state for runLevenbergMarquardt (levenberg_marquardt_loop.hpp): x, its
+// equations and energies, the step with the points eliminated, and the candidate.
+struct LevelIterations {
+  const InitializerLevelProblem& problem;
+  const Vector8& s_f;
+  const Eigen::VectorXd& s_p;
+  std::vector<double>& energies;  // ‖r_p‖² at x
+  State x, candidate;
+  Equations equations, candidate_equations;
+  std::vector<double> candidate_energies;
+  Vector8 delta_f;
+  Eigen::VectorXd delta_p, inverse_damped;
+
+  bool step(const LevenbergMarquardtDamping& damping, double* model_cost_change) {
+    if (!solveStep(equations, s_f, s_p, damping, &delta_f, &delta_p, &inverse_damped))
+      return false;
+    *model_cost_change = modelCostChange(equations, delta_f, delta_p);
+    return true;
+  }
+  bool evaluateCandidate(bool linearize, double* cost) {
+    plus(x, delta_f, delta_p, &candidate);
+    return evaluate(problem, candidate, linearize ? &candidate_equations : nullptr, cost,
+                    &candidate_energies);
+  }
+  double candidateDistance() const { return distance(candidate, x); }
+  void accept(bool linearized) {
+    std::swap(x, candidate);
+    std::swap(energies, candidate_energies);
+    if (linearized) equations.swap(candidate_equations);
+  }
+  double norm() const { return omnidso::norm(x); }
+  double gradientMaxNorm() const { return omnidso::gradientMaxNorm(x, equations); }
+};
+
+InitializerTermination initializerTermination(LevenbergMarquardtTermination t) {
+  switch (t) {
+    case LevenbergMarquardtTermination::kConvergence: return InitializerTermination::kConvergence;
+    case LevenbergMarquardtTermination::kNoConvergence:
+      return InitializerTermination::kNoConvergence;
+    case LevenbergMarquardtTermination::kFailure: break;
+  }
+  return InitializerTermination::kFailure;
+}
+
 }  // namespace
 
 double initializerLevelCost(const InitializerLevelProblem& problem, const double* pose,
@@ -233,122 +277,35 @@ InitializerSolverSummary solveInitializerLevel(const InitializerLevelProblem& pr
                                                double* pose, double* affine,
                                                std::vector<double>* inverse_distances) {
   InitializerSolverSummary summary;
-  State x, candidate;
+  Vector8 s_f = Vector8::Ones();
+  Eigen::VectorXd s_p;
+  LevelIterations it{problem, s_f, s_p, summary.energies, {}, {}, {}, {}, {}, {}, {}, {}};
+  State& x = it.x;
   std::copy_n(pose, 7, x.frame.begin());
   std::copy_n(affine, 2, x.frame.begin() + 7);
   x.d = *inverse_distances;
   const int n = static_cast<int>(x.d.size());
-  Equations equations, candidate_equations;
-  std::vector<double> candidate_energies;
 
   // Iteration 0.
   double x_cost = 0.0;
-  if (!evaluate(problem, x, &equations, &x_cost, &summary.energies)) {
+  if (!evaluate(problem, x, &it.equations, &x_cost, &summary.energies)) {
     summary.energies = rawEnergies(problem, x);
     return summary;  // kFailure, the start in place
   }
   const std::vector<double> start_energies = summary.energies;
   summary.initial_cost = x_cost;
   // Jacobi scaling from iteration 0's Jacobian: s_j = 1 / (1 + ‖J̃_j‖), ‖J̃_j‖² = H_jj.
-  Vector8 s_f = Vector8::Ones();
-  Eigen::VectorXd s_p = Eigen::VectorXd::Ones(n);
+  s_p = Eigen::VectorXd::Ones(n);
   if (options.jacobi_scaling) {
-    for (int j = 0; j < kFrameSize; ++j) s_f[j] = 1.0 / (1.0 + std::sqrt(equations.H(j, j)));
-    for (int i = 0; i < n; ++i) s_p[i] = 1.0 / (1.0 + std::sqrt(equations.h[i]));
+    for (int j = 0; j < kFrameSize; ++j) s_f[j] = 1.0 / (1.0 + std::sqrt(it.equations.H(j, j)));
+    for (int i = 0; i < n; ++i) s_p[i] = 1.0 / (1.0 + std::sqrt(it.equations.h[i]));
   }
-  double gradient_max_norm = gradientMaxNorm(x, equations);
-  double x_norm = -1.0;  // Ceres's ‖x‖ until a step is accepted
-  TrustRegion region{options.initial_trust_region_radius};
-  LevenbergMarquardtDamping damping{region.radius, options.min_lm_diagonal,
-                                    options.max_lm_diagonal};
-  double iteration_cost = x_cost, least_cost = x_cost;
-  bool step_successful = true;
-  int iteration = 0, consecutive_invalid_steps = 0;
-  Vector8 delta_f;
-  Eigen::VectorXd delta_p, inverse_damped;
-
-  while (true) {
-    // The end of an iteration: record it, then the termination tests in Ceres's order.
-    (step_successful ? summary.successful_steps : summary.unsuccessful_steps) += 1;
-    least_cost = std::min(least_cost, iteration_cost);
-    if (iteration >= options.max_num_iterations) {
-      summary.termination = InitializerTermination::kNoConvergence;
-      break;
-    }
-    if (step_successful && gradient_max_norm <= options.gradient_tolerance) {
-      summary.termination = InitializerTermination::kConvergence;
-      break;
-    }
-    if (region.radius <= options.min_trust_region_radius) {
-      summary.termination = InitializerTermination::kConvergence;
-      break;
-    }
-    ++iteration;
-
-    // The step and the model's predicted decrease.
-    damping.radius = region.radius;
-    bool step_valid =
-        solveStep(equations, s_f, s_p, damping, &delta_f, &delta_p, &inverse_damped);
-    const double model_cost_change = step_valid ? modelCostChange(equations, delta_f, delta_p) : 0.0;
-    step_valid = step_valid && model_cost_change > 0.0;
-    if (!step_valid) {
-      if (++consecutive_invalid_steps >= options.max_num_consecutive_invalid_steps) {
-        summary.termination = InitializerTermination::kFailure;  // the start stays in place
-        break;
-      }
-      region.stepRejected();
-      step_successful = false;
-      iteration_cost = x_cost;
-      continue;
-    }
-    consecutive_invalid_steps = 0;
-
-    // The candidate x ⊞ δ, with its normal equations unless this is the last iteration (an
-    // accepted candidate is the next linearisation point; window_solver.hpp explains).
-    plus(x, delta_f, delta_p, &candidate);
-    const bool linearize_candidate = iteration < options.max_num_iterations;
-    double candidate_cost = std::numeric_limits<double>::max();
-    bool candidate_linearized =
-        evaluate(problem, candidate, linearize_candidate ? &candidate_equations : nullptr,
-                 &candidate_cost, &candidate_energies);
-    if (!candidate_linearized) candidate_cost = std::numeric_limits<double>::max();
-    candidate_linearized = candidate_linearized && linearize_candidate;
-    if (distance(candidate, x) <=
-        options.parameter_tolerance * (x_norm + options.parameter_tolerance)) {
-      summary.termination = InitializerTermination::kConvergence;
-      break;
-    }
-    const double cost_change = x_cost - candidate_cost;
-    if (std::abs(cost_change) <= options.function_tolerance * x_cost) {
-      summary.termination = InitializerTermination::kConvergence;
-      break;
-    }
-
-    // Accept or reject.
-    const double step_quality = candidate_cost >= std::numeric_limits<double>::max()
-                                    ? std::numeric_limits<double>::lowest()
-                                    : cost_change / model_cost_change;
-    if (step_quality > options.min_relative_decrease) {
-      std::swap(x, candidate);
-      x_norm = norm(x);
-      x_cost = candidate_cost;
-      std::swap(summary.energies, candidate_energies);
-      if (candidate_linearized) {
-        equations.swap(candidate_equations);
-        gradient_max_norm = gradientMaxNorm(x, equations);
-      }  // else the last iteration: the Jacobian there would go unused
-      step_successful = true;
-      iteration_cost = x_cost;
-      region.stepAccepted(step_quality, options.max_trust_region_radius);
-    } else {
-      step_successful = false;
-      iteration_cost = candidate_cost;
-      region.stepRejected();
-    }
-  }
-
-  summary.iterations = summary.successful_steps + summary.unsuccessful_steps - 1;
-  summary.final_cost = least_cost;
+  const LevenbergMarquardtRun run = runLevenbergMarquardt(it, options, x_cost);
+  summary.termination = initializerTermination(run.termination);
+  summary.iterations = run.iterations;
+  summary.successful_steps = run.successful_steps;
+  summary.unsuccessful_steps = run.unsuccessful_steps;
+  summary.final_cost = run.final_cost;
   if (summary.termination == InitializerTermination::kFailure) {
     summary.energies = start_energies;
     return summary;

@@ -1,7 +1,7 @@
 // The native tracker solver (tracker_solver.hpp): the objective and its 8×8 normal equations,
-// then the Levenberg–Marquardt loop in the order of Ceres 2.1's TrustRegionMinimizer (the
-// same order as window_solver.cc's): iteration 0, then per iteration the step, its
-// validity, the candidate, the tolerances, accept or reject and the trust-region update.
+// iteration 0, and the Jacobi-scaled step for the Levenberg–Marquardt iterations of Ceres
+// 2.1's TrustRegionMinimizer (backend/levenberg_marquardt_loop.hpp, which the initialiser's
+// level solve runs too).
 #include <ceres/loss_function.h>
 
 #include <Eigen/Cholesky>
@@ -10,7 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <omnidso/backend/robust_correction.hpp>
-#include <omnidso/backend/trust_region.hpp>
+#include <omnidso/backend/levenberg_marquardt_loop.hpp>
 #include <omnidso/frontend/tracker_solver.hpp>
 #include <omnidso/residuals/se3_manifold.hpp>
 #include <vector>
@@ -125,21 +125,67 @@ double gradientMaxNorm(const Point& x, const Vector8& g) {
   return max_norm;
 }
 
+// The tracker's state for runLevenbergMarquardt (levenberg_marquardt_loop.hpp): the Jacobi-
+// scaled step on the 8×8 system, (SHS + D²) y = S g, δ = −S y, L = −δᵀg − ½ δᵀHδ.
+struct TrackerIterations {
+  Objective& objective;
+  const Vector8& scaling;
+  Point x;
+  NormalEquations equations, candidate_equations;
+  Point candidate;
+  Vector8 delta;
+  Eigen::LLT<Matrix8> cholesky;
+
+  bool step(const LevenbergMarquardtDamping& damping, double* model_cost_change) {
+    const Matrix8 scaled_H = scaling.asDiagonal() * equations.H * scaling.asDiagonal();
+    Matrix8 lhs = scaled_H;
+    for (int j = 0; j < kTangentSize; ++j) lhs(j, j) += damping.squaredDiagonal(scaled_H(j, j));
+    cholesky.compute(lhs);
+    const Vector8 scaled_gradient = scaling.cwiseProduct(equations.g);
+    const Vector8 scaled_step = -cholesky.solve(scaled_gradient);
+    if (!(cholesky.info() == Eigen::Success && scaled_step.allFinite())) return false;
+    *model_cost_change =
+        -scaled_step.dot(scaled_gradient) - 0.5 * scaled_step.dot(scaled_H * scaled_step);
+    delta = scaling.cwiseProduct(scaled_step);
+    return true;
+  }
+  bool evaluateCandidate(bool linearize, double* cost) {
+    candidate = plus(x, delta);
+    return objective.evaluate(candidate, linearize ? &candidate_equations : nullptr, cost);
+  }
+  double candidateDistance() const { return distance(candidate, x); }
+  void accept(bool linearized) {
+    x = candidate;
+    if (linearized) std::swap(equations, candidate_equations);
+  }
+  double norm() const { return omnidso::norm(x); }
+  double gradientMaxNorm() const { return omnidso::gradientMaxNorm(x, equations.g); }
+};
+
+TrackerTermination trackerTermination(LevenbergMarquardtTermination t) {
+  switch (t) {
+    case LevenbergMarquardtTermination::kConvergence: return TrackerTermination::kConvergence;
+    case LevenbergMarquardtTermination::kNoConvergence: return TrackerTermination::kNoConvergence;
+    case LevenbergMarquardtTermination::kFailure: break;
+  }
+  return TrackerTermination::kFailure;
+}
+
 }  // namespace
 
 TrackerSolverSummary solveTracker(const TrackerProblem& problem,
                                   const TrackerSolverOptions& options, double* pose,
                                   double* affine) {
   TrackerSolverSummary summary;
-  Point x;
-  std::copy_n(pose, 7, x.begin());
-  std::copy_n(affine, 2, x.begin() + 7);
   Objective objective(problem);
-  NormalEquations equations, candidate_equations;
+  Vector8 scaling = Vector8::Ones();
+  TrackerIterations it{objective, scaling, {}, {}, {}, {}, {}, {}};
+  std::copy_n(pose, 7, it.x.begin());
+  std::copy_n(affine, 2, it.x.begin() + 7);
 
   // Iteration 0.
   double x_cost = 0.0;
-  const bool evaluated = objective.selectAndEvaluate(x, &equations, &x_cost);
+  const bool evaluated = objective.selectAndEvaluate(it.x, &it.equations, &x_cost);
   summary.num_residuals = objective.numActive();
   if (evaluated && summary.num_residuals < problem.min_residuals) return summary;  // kNotSolved
   if (!evaluated) {
@@ -148,111 +194,19 @@ TrackerSolverSummary solveTracker(const TrackerProblem& problem,
   }
   summary.initial_cost = x_cost;
   // Jacobi scaling from iteration 0's Jacobian: s_j = 1 / (1 + ‖J̃_j‖), ‖J̃_j‖² = H_jj.
-  Vector8 scaling = Vector8::Ones();
   if (options.jacobi_scaling)
-    for (int j = 0; j < kTangentSize; ++j) scaling[j] = 1.0 / (1.0 + std::sqrt(equations.H(j, j)));
-  double gradient_max_norm = gradientMaxNorm(x, equations.g);
-  double x_norm = -1.0;  // Ceres's ‖x‖ until a step is accepted
-  TrustRegion region{options.initial_trust_region_radius};
-  LevenbergMarquardtDamping damping{region.radius, options.min_lm_diagonal,
-                                    options.max_lm_diagonal};
-  double iteration_cost = x_cost, least_cost = x_cost;
-  bool step_successful = true;
-  int iteration = 0, consecutive_invalid_steps = 0;
-  Eigen::LLT<Matrix8> cholesky;
+    for (int j = 0; j < kTangentSize; ++j)
+      scaling[j] = 1.0 / (1.0 + std::sqrt(it.equations.H(j, j)));
 
-  while (true) {
-    // The end of an iteration: record it, then the termination tests in Ceres's order.
-    (step_successful ? summary.successful_steps : summary.unsuccessful_steps) += 1;
-    least_cost = std::min(least_cost, iteration_cost);
-    if (iteration >= options.max_num_iterations) {
-      summary.termination = TrackerTermination::kNoConvergence;
-      break;
-    }
-    if (step_successful && gradient_max_norm <= options.gradient_tolerance) {
-      summary.termination = TrackerTermination::kConvergence;
-      break;
-    }
-    if (region.radius <= options.min_trust_region_radius) {
-      summary.termination = TrackerTermination::kConvergence;
-      break;
-    }
-    ++iteration;
-
-    // The step on the scaled system: (SHS + D²) y = S g, δ = −S y; L = −δᵀg − ½ δᵀHδ.
-    damping.radius = region.radius;
-    const Matrix8 scaled_H = scaling.asDiagonal() * equations.H * scaling.asDiagonal();
-    Matrix8 lhs = scaled_H;
-    for (int j = 0; j < kTangentSize; ++j) lhs(j, j) += damping.squaredDiagonal(scaled_H(j, j));
-    cholesky.compute(lhs);
-    const Vector8 scaled_gradient = scaling.cwiseProduct(equations.g);
-    const Vector8 scaled_step = -cholesky.solve(scaled_gradient);
-    bool step_valid = cholesky.info() == Eigen::Success && scaled_step.allFinite();
-    const double model_cost_change =
-        step_valid
-            ? -scaled_step.dot(scaled_gradient) - 0.5 * scaled_step.dot(scaled_H * scaled_step)
-            : 0.0;
-    step_valid = step_valid && model_cost_change > 0.0;
-    if (!step_valid) {
-      if (++consecutive_invalid_steps >= options.max_num_consecutive_invalid_steps) {
-        summary.termination = TrackerTermination::kFailure;  // the start stays in place
-        break;
-      }
-      region.stepRejected();
-      step_successful = false;
-      iteration_cost = x_cost;
-      continue;
-    }
-    consecutive_invalid_steps = 0;
-
-    // The candidate x ⊞ δ, with its normal equations unless this is the last iteration (an
-    // accepted candidate is the next linearisation point; window_solver.hpp explains).
-    const Vector8 delta = scaling.cwiseProduct(scaled_step);
-    const Point candidate = plus(x, delta);
-    const bool linearize_candidate = iteration < options.max_num_iterations;
-    double candidate_cost = std::numeric_limits<double>::max();
-    bool candidate_linearized = objective.evaluate(
-        candidate, linearize_candidate ? &candidate_equations : nullptr, &candidate_cost);
-    if (!candidate_linearized) candidate_cost = std::numeric_limits<double>::max();
-    candidate_linearized = candidate_linearized && linearize_candidate;
-    if (distance(candidate, x) <=
-        options.parameter_tolerance * (x_norm + options.parameter_tolerance)) {
-      summary.termination = TrackerTermination::kConvergence;
-      break;
-    }
-    const double cost_change = x_cost - candidate_cost;
-    if (std::abs(cost_change) <= options.function_tolerance * x_cost) {
-      summary.termination = TrackerTermination::kConvergence;
-      break;
-    }
-
-    // Accept or reject.
-    const double step_quality = candidate_cost >= std::numeric_limits<double>::max()
-                                    ? std::numeric_limits<double>::lowest()
-                                    : cost_change / model_cost_change;
-    if (step_quality > options.min_relative_decrease) {
-      x = candidate;
-      x_norm = norm(x);
-      x_cost = candidate_cost;
-      if (candidate_linearized) {
-        std::swap(equations, candidate_equations);
-        gradient_max_norm = gradientMaxNorm(x, equations.g);
-      }  // else the last iteration: the Jacobian there would go unused
-      step_successful = true;
-      iteration_cost = x_cost;
-      region.stepAccepted(step_quality, options.max_trust_region_radius);
-    } else {
-      step_successful = false;
-      iteration_cost = candidate_cost;
-      region.stepRejected();
-    }
-  }
-
-  summary.iterations = summary.successful_steps + summary.unsuccessful_steps - 1;
-  summary.final_cost = least_cost;
+  const LevenbergMarquardtRun run = runLevenbergMarquardt(it, options, x_cost);
+  summary.termination = trackerTermination(run.termination);
+  summary.iterations = run.iterations;
+  summary.successful_steps = run.successful_steps;
+  summary.unsuccessful_steps = run.unsuccessful_steps;
+  summary.final_cost = run.final_cost;
   if (summary.termination != TrackerTermination::kFailure) {
-    std::copy_n(x.begin(), 7, pose);
-    std::copy_n(x.begin() + 7, 2, affine);
+    std::copy_n(it.x.begin(), 7, pose);
+    std::copy_n(it.x.begin() + 7, 2, affine);
   }
   return summary;
 }
