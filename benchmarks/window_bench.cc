@@ -73,8 +73,9 @@ std::unique_ptr<SlidingWindow> makeWindow(const WindowFixture& f, const WindowOp
 }
 
 void BM_WindowOptimization(benchmark::State& state, DifferentiationMode mode, int max_iterations,
-                           bool reuse_evaluations, bool native_solver) {
+                           bool reuse_evaluations, bool native_solver, int compute_threads = 1) {
   const WindowFixture& f = fixture();
+  TaskPool pool(compute_threads);
   double iterations = 0, eval_ms = 0, linear_ms = 0, solve_ms = 0;
   int solves = 0, num_points = 0, num_residuals = 0;
   for (auto _ : state) {
@@ -86,6 +87,7 @@ void BM_WindowOptimization(benchmark::State& state, DifferentiationMode mode, in
     options.reuse_evaluations = reuse_evaluations;
     options.native_solver = native_solver;
     auto window = makeWindow(f, options);
+    window->setTaskPool(&pool);
     num_points = window->numPoints();
     num_residuals = window->numResiduals();
     state.ResumeTiming();
@@ -131,6 +133,11 @@ BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Native, DifferentiationMode::kAnaly
     ->Iterations(5);
 BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Native_2it, DifferentiationMode::kAnalytic, 2, true,
                   true)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(5);
+// … with the evaluation on two compute threads (task_pool.hpp; the same result).
+BENCHMARK_CAPTURE(BM_WindowOptimization, ucm_Native_2it_2threads, DifferentiationMode::kAnalytic,
+                  2, true, true, 2)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(5);
 

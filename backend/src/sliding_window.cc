@@ -8,6 +8,8 @@
 
 #include <omnidso/backend/intrinsics_prior.hpp>
 #include <omnidso/backend/sliding_window.hpp>
+#include <omnidso/backend/window_photometric_terms.hpp>
+#include <omnidso/backend/window_solver.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/residuals/residual_pattern.hpp>
 #include <omnidso/residuals/se3_manifold.hpp>

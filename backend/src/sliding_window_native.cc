@@ -48,7 +48,10 @@ std::optional<WindowProblem> SlidingWindow::nativeProblem() {
   native.photometric_loss = loss_.get();
   native.interpolation = WindowObservation{}.interpolation;
   native.out_of_bounds_energy = options_.outlier_energy_per_pixel * kWindowPatternSize;
-  native.photometric = factory_->makeWindowTerms();
+  if (!window_terms_) window_terms_ = factory_->makeWindowTerms();
+  native.photometric = window_terms_;
+  native.id = ++num_native_problems_;
+  native.pool = pool_;
 
   // Priors: every residual block that is not a photometric one (those are all
   // OutOfBoundsPenalty, addResidual), over keyframe blocks and the intrinsics.
@@ -91,7 +94,8 @@ WindowSolveSummary SlidingWindow::solveNative(const WindowProblem& problem,
   options.function_tolerance = options_.function_tolerance;
   options.max_solver_time_in_seconds = options_.max_solver_time_s;
   const Stopwatch watch;
-  WindowSolverSummary s = solveWindow(problem, options);
+  if (!solver_workspace_) solver_workspace_ = std::make_unique<WindowSolverWorkspace>();
+  WindowSolverSummary s = solveWindow(problem, options, solver_workspace_.get());
   all_residuals_valid_ = false;
   solved_energies_ = std::move(s.residual_energies);
   solved_fingerprint_ = solved_energies_.empty() ? std::vector<double>{} : energyFingerprint();

@@ -24,6 +24,7 @@ void WindowNormalEquations::swap(WindowNormalEquations& other) noexcept {
   lhs_.swap(other.lhs_);
   rhs_.swap(other.rhs_);
   scaled_coupling_.swap(other.scaled_coupling_);
+  scaled_gradient_.swap(other.scaled_gradient_);
 }
 
 double WindowNormalEquations::dampedPointHessian(int p,
@@ -46,8 +47,10 @@ void WindowNormalEquations::reducedCameraSystem(const WindowVariables& variables
   }
   // Σ_p w_pᵀ w_p / (h_p + D_p²) as one rank update with ŵ_p = w_p / √(h_p + D_p²).
   const int num_points = numPoints();
-  RowMatrix scaled(num_points, n);
-  Eigen::VectorXd scaled_gradient(num_points);
+  RowMatrix& scaled = scaled_coupling_;
+  Eigen::VectorXd& scaled_gradient = scaled_gradient_;
+  scaled.resize(num_points, n);
+  scaled_gradient.resize(num_points);
   for (int p = 0; p < num_points; ++p) {
     if (!variables.point_variable[p]) {
       scaled.row(p).setZero();

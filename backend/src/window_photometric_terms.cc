@@ -11,6 +11,7 @@
 #include <omnidso/cameras/pinhole.hpp>
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/cameras/unified.hpp>
+#include <omnidso/core/task_pool.hpp>
 #include <omnidso/residuals/photometric_kernel.hpp>
 #include <limits>
 #include <utility>
@@ -73,34 +74,63 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
       }
     }
 
+    // The residuals are evaluated pair by pair on the compute threads: each pair's Gram
+    // matrix is summed by one task in residual order, and what each residual adds to the
+    // cost and to its point (h_p, g_p, w_p) is kept and summed below in residual order —
+    // the same operations in the same order as one pass over the residuals, so the result
+    // does not depend on the thread count (core/task_pool.hpp).
+    const int num_residuals = static_cast<int>(problem.residuals.size());
+    groupResidualsByPair(problem);
+    terms_.resize(num_residuals);
+    const bool with_equations = equations != nullptr;
+    runTasks(problem.pool, static_cast<int>(used_pairs_.size()), [&](int task) {
+      const int pair = used_pairs_[task];
+      Eigen::Matrix<double, kN, 1> r;
+      PatchDerivatives<kN, K> patch;
+      // The pair's Gram matrix is summed on the task's stack: neighbouring pairs' matrices
+      // share cache lines, and two threads updating them per residual halved the speed.
+      PairGram gram;
+      gram.lower.setZero();
+      for (int i = pair_begin_[pair]; i < pair_begin_[pair + 1]; ++i) {
+        const int k = residuals_by_pair_[i];
+        const int p = problem.residuals[k].point;
+        const WindowPointBlock& point = problem.points[p];
+        ResidualTerms& terms = terms_[i];
+        const PhotometricStatus status = evaluatePhotometricPatch(
+            camera, samplers[problem.residuals[k].target], *point.patch, bearings_[p],
+            pairs_[pair], *point.inverse_distance, r.data(), with_equations ? &patch : nullptr,
+            want_intrinsics);
+        terms.valid = status == PhotometricStatus::kValid;
+        if (!terms.valid) continue;  // a zero Jacobian: nothing to accumulate
+        terms.energy = r.squaredNorm();
+        const RobustCorrection correction(problem.photometric_loss, r.squaredNorm());
+        terms.cost = correction.cost();
+        if (with_equations)
+          accumulate(*point.patch, patch, pair, *point.inverse_distance, r, correction,
+                     want_intrinsics, &gram, &terms);
+      }
+      if (with_equations) pair_grams_[pair] = gram;
+    });
+
     // OutOfBoundsPenalty's constant residual √(E/N) per pixel.
     const Eigen::Matrix<double, kN, 1> penalty =
         Eigen::Matrix<double, kN, 1>::Constant(std::sqrt(problem.out_of_bounds_energy / kN));
     const double invalid_cost = RobustCorrection(problem.photometric_loss, penalty.squaredNorm()).cost();
-
-    if (energies) energies->resize(problem.residuals.size());
+    if (energies) energies->resize(num_residuals);
     double cost = 0.0;
-    Eigen::Matrix<double, kN, 1> r;
-    PatchDerivatives<kN, K> patch;
-    for (int p = 0; p < static_cast<int>(problem.points.size()); ++p) {
-      const WindowPointBlock& point = problem.points[p];
-      const double d = *point.inverse_distance;
-      for (int k = point.first_residual; k < point.first_residual + point.num_residuals; ++k) {
-        const int h = point.host, t = problem.residuals[k].target;
-        const int pair = h * num_frames + t;
-        const PhotometricStatus status = evaluatePhotometricPatch(
-            camera, samplers[t], *point.patch, bearings_[p], pairs_[pair], d, r.data(),
-            equations ? &patch : nullptr, want_intrinsics);
-        if (status != PhotometricStatus::kValid) {
-          cost += invalid_cost;  // and a zero Jacobian: nothing to accumulate
-          if (energies) (*energies)[k] = std::numeric_limits<double>::infinity();
-          continue;
-        }
-        if (energies) (*energies)[k] = r.squaredNorm();
-        const RobustCorrection correction(problem.photometric_loss, r.squaredNorm());
-        cost += correction.cost();
-        if (equations)
-          accumulate(*point.patch, patch, pair, d, r, correction, p, want_intrinsics, equations);
+    for (int k = 0; k < num_residuals; ++k) {
+      const ResidualTerms& terms = terms_[position_by_pair_[k]];
+      if (!terms.valid) {
+        cost += invalid_cost;
+        if (energies) (*energies)[k] = std::numeric_limits<double>::infinity();
+        continue;
+      }
+      if (energies) (*energies)[k] = terms.energy;
+      cost += terms.cost;
+      if (equations) {
+        const WindowResidual& residual = problem.residuals[k];
+        addToPoint(terms, problem.points[residual.point].host * num_frames + residual.target,
+                   residual.point, equations);
       }
     }
     if (equations) addPairsToFrames(problem, equations);
@@ -113,24 +143,56 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   void refreshBearings(const WindowProblem& problem, const CameraD& camera,
                        const typename CameraD::VecN& intrinsics) {
     const bool with_jacobian = !problem.intrinsics_constant;
-    if (bearings_.size() == problem.points.size() && bearings_intrinsics_ == intrinsics &&
-        (bearings_have_jacobian_ || !with_jacobian))
+    if (bearings_problem_ == problem.id && bearings_.size() == problem.points.size() &&
+        bearings_intrinsics_ == intrinsics && (bearings_have_jacobian_ || !with_jacobian))
       return;
     bearings_.resize(problem.points.size());
     for (size_t p = 0; p < problem.points.size(); ++p)
       unprojectHostPattern(camera, *problem.points[p].patch, with_jacobian, &bearings_[p]);
+    bearings_problem_ = problem.id;
     bearings_intrinsics_ = intrinsics;
     bearings_have_jacobian_ = with_jacobian;
   }
 
+  // What one valid residual adds to its point's h_p, g_p and row of W: J̃_d and v = J̃_dᵀ J̃
+  // (pair columns), kept by the parallel pass and summed in residual order by addToPoint.
+  struct ResidualTerms {
+    bool valid = false;
+    double energy = 0.0, cost = 0.0;
+    double point_hessian = 0.0, point_gradient = 0.0;
+    Eigen::Matrix<double, 1, kColumns> v;
+  };
+
+  // Residual indices grouped by host–target pair, in residual order within a pair (a
+  // counting sort), and the pairs that have any.
+  void groupResidualsByPair(const WindowProblem& problem) {
+    const int num_pairs = num_frames_ * num_frames_;
+    pair_begin_.assign(num_pairs + 1, 0);
+    for (const WindowResidual& residual : problem.residuals)
+      ++pair_begin_[problem.points[residual.point].host * num_frames_ + residual.target + 1];
+    used_pairs_.clear();
+    for (int pair = 0; pair < num_pairs; ++pair) {
+      if (pair_begin_[pair + 1] > 0) used_pairs_.push_back(pair);
+      pair_begin_[pair + 1] += pair_begin_[pair];
+    }
+    residuals_by_pair_.resize(problem.residuals.size());
+    position_by_pair_.resize(problem.residuals.size());
+    std::vector<int> next(pair_begin_.begin(), pair_begin_.end() - 1);
+    for (int k = 0; k < static_cast<int>(problem.residuals.size()); ++k) {
+      const WindowResidual& residual = problem.residuals[k];
+      const int position = next[problem.points[residual.point].host * num_frames_ + residual.target]++;
+      residuals_by_pair_[position] = k;
+      position_by_pair_[k] = position;
+    }
+  }
+
   // One valid residual: its rows [J_pair J_c | r̃] and ∂r̃/∂d (header), robust-corrected,
-  // into the pair's Gram matrix and into point p's h_p, g_p and row of W.
+  // into its pair's Gram matrix `gram`; its point's terms into `terms`.
   void accumulate(const HostPatch<kN>& host, const PatchDerivatives<kN, K>& patch, int pair_index,
                   double d, const Eigen::Matrix<double, kN, 1>& r,
-                  const RobustCorrection& correction, int p, bool want_intrinsics,
-                  WindowNormalEquations* equations) {
+                  const RobustCorrection& correction, bool want_intrinsics, PairGram* gram,
+                  ResidualTerms* terms) {
     const PhotometricPair& pair = pairs_[pair_index];
-    const int h = pair_index / num_frames_, t = pair_index % num_frames_;
     Rows rows;
     Eigen::Matrix<double, kN, 1> J_d;
     for (int o = 0; o < kN; ++o) {
@@ -155,13 +217,22 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
     r_corrected = r;
     correction.correctResiduals(r_corrected);
 
-    addToLowerGram(Rows(rows), pair_grams_[pair_index].lower,
-                   std::make_integer_sequence<int, (kGramSize + 1) / 2>{});
-    pair_grams_[pair_index].used = true;
+    addToLowerGram(Rows(rows), gram->lower, std::make_integer_sequence<int, (kGramSize + 1) / 2>{});
+    gram->used = true;
 
-    equations->pointHessian(p) += J_d.squaredNorm();
-    equations->pointGradient(p) += J_d.dot(r_corrected);
-    const Eigen::Matrix<double, 1, kColumns> v = J_d.transpose() * J;
+    terms->point_hessian = J_d.squaredNorm();
+    terms->point_gradient = J_d.dot(r_corrected);
+    terms->v.noalias() = J_d.transpose() * J;
+  }
+
+  // h_p, g_p and row p of W: v through the pair's adjoint to the host, and to the target.
+  void addToPoint(const ResidualTerms& terms, int pair_index, int p,
+                  WindowNormalEquations* equations) const {
+    const PhotometricPair& pair = pairs_[pair_index];
+    const int h = pair_index / num_frames_, t = pair_index % num_frames_;
+    equations->pointHessian(p) += terms.point_hessian;
+    equations->pointGradient(p) += terms.point_gradient;
+    const Eigen::Matrix<double, 1, kColumns>& v = terms.v;
     const Adjoint& adjoint = adjoints_[pair_index];
     auto w = equations->pointCoupling(p);
     const int host_offset = kFrameTangentSize * h, target_offset = kFrameTangentSize * t;
@@ -250,10 +321,13 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   std::vector<HostBearings<kN, K>> bearings_;
   typename CameraD::VecN bearings_intrinsics_;
   bool bearings_have_jacobian_ = false;
+  std::uint64_t bearings_problem_ = 0;  // WindowProblem::id they belong to
   int num_frames_ = 0;
   std::vector<PhotometricPair> pairs_;  // host-major, F × F
   std::vector<Adjoint> adjoints_;       // Ad(T_th) per pair
   std::vector<PairGram> pair_grams_;
+  std::vector<int> pair_begin_, residuals_by_pair_, position_by_pair_, used_pairs_;
+  std::vector<ResidualTerms> terms_;                              // per residual
 };
 
 }  // namespace

@@ -24,12 +24,16 @@ std::string format(const char* pattern, Args... args) {
 
 }  // namespace
 
-WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolverOptions& options) {
+WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolverOptions& options,
+                                WindowSolverWorkspace* workspace) {
   const Stopwatch clock;
   WindowSolverSummary summary;
   WindowState state(problem);
-  // The normal equations at x, and at the candidate x ⊞ δ.
-  WindowNormalEquations equations, candidate_equations;
+  // The normal equations at x, and at the candidate x ⊞ δ (reset by every evaluation).
+  WindowSolverWorkspace local;
+  if (!workspace) workspace = &local;
+  WindowNormalEquations& equations = workspace->equations;
+  WindowNormalEquations& candidate_equations = workspace->candidate_equations;
   std::vector<double> start, x;
   // The residuals' raw energies at x and at the candidate (summary.residual_energies).
   std::vector<double> energies, candidate_energies;

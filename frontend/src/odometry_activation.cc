@@ -8,6 +8,9 @@
 // dropped.
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <optional>
+#include <utility>
 
 #include "odometry_impl.hpp"
 
@@ -42,45 +45,87 @@ void Odometry::Impl::activatePoints(int newest_id, const std::vector<int>& leavi
     Eigen::Vector2d u;
     if (camera.project(T_newest_world * window->pointInWorld(*point), u)) occupied[cellOf(u)] = 1;
   }
-  for (auto& [host_id, list] : immature) {
-    if (is_leaving(host_id)) continue;
+  const auto converged = [&](const ImmaturePoint& p) {
+    return p.num_good_traces > 0 &&
+           (p.last_status == TraceStatus::kGood || p.last_status == TraceStatus::kSkipped) &&
+           p.last_interval_px <= options.max_activation_interval_px &&
+           p.quality >= options.min_activation_quality && p.inverseDistanceEstimate() > 0.0;
+  };
+  // Where the candidate would land in the newest keyframe (false: outside it).
+  const auto projectToNewest = [&](int host_id, const ImmaturePoint& p, Eigen::Vector2d* u) {
     const SE3d T_world_host = window->keyframe(host_id).T_world_cam();
-    std::vector<ImmaturePoint> keep;
-    for (ImmaturePoint& p : list) {
-      const bool converged = p.num_good_traces > 0 &&
-                             (p.last_status == TraceStatus::kGood ||
-                              p.last_status == TraceStatus::kSkipped) &&
-                             p.last_interval_px <= options.max_activation_interval_px &&
-                             p.quality >= options.min_activation_quality;
-      const double d = p.inverseDistanceEstimate();
-      if (!converged || num_staying >= options.num_points || !(d > 0.0)) {
-        keep.push_back(p);
-        continue;
-      }
+    return camera.project(
+        T_newest_world * (T_world_host * (p.bearing / p.inverseDistanceEstimate())), *u);
+  };
+  const auto refine = [&](int host_id, const ImmaturePoint& p) {
+    return window->refineNewPoint(host_id, p.pixel, p.inverseDistanceEstimate(),
+                                  options.activation);
+  };
+  // Every candidate of the keyframes that stay, in the order they are considered.
+  struct Entry {
+    int host_id;
+    int index;
+  };
+  std::vector<Entry> entries;
+  for (const auto& [host_id, list] : immature)
+    if (!is_leaving(host_id))
+      for (size_t i = 0; i < list.size(); ++i) entries.push_back({host_id, static_cast<int>(i)});
+  const auto candidate = [&](const Entry& e) -> ImmaturePoint& {
+    return immature.at(e.host_id)[e.index];
+  };
+  // With compute threads, refinements are computed ahead in batches: from the candidate that
+  // needs one, the next kRefinementBatch candidates that could reach that step in the
+  // current state are refined in parallel. refineNewPoint reads only the keyframes, which
+  // activation does not change, so each result is the one the loop would compute; a
+  // candidate whose cell an earlier one of its batch fills, or one past the budget, is
+  // refined in vain.
+  constexpr size_t kRefinementBatch = 64;
+  std::vector<std::optional<NewPointRefinement>> ahead(entries.size());
+  const auto refineAhead = [&](size_t from) {
+    std::vector<size_t> batch;
+    for (size_t e = from; e < entries.size() && batch.size() < kRefinementBatch; ++e) {
       Eigen::Vector2d u;
-      const Eigen::Vector3d x = T_newest_world * (T_world_host * (p.bearing / d));
-      const bool in_newest = camera.project(x, u);
-      if (in_newest && occupied[cellOf(u)]) {
+      const ImmaturePoint& p = candidate(entries[e]);
+      if (!converged(p) || (projectToNewest(entries[e].host_id, p, &u) && occupied[cellOf(u)]))
+        continue;
+      batch.push_back(e);
+    }
+    pool->run(static_cast<int>(batch.size()), [&](int b) {
+      const Entry& e = entries[batch[b]];
+      ahead[batch[b]] = refine(e.host_id, candidate(e));
+    });
+  };
+  std::map<int, std::vector<ImmaturePoint>> kept;
+  for (size_t e = 0; e < entries.size(); ++e) {
+    const int host_id = entries[e].host_id;
+    std::vector<ImmaturePoint>& keep = kept[host_id];
+    const ImmaturePoint& p = candidate(entries[e]);
+    if (!converged(p) || num_staying >= options.num_points) {
+      keep.push_back(p);
+      continue;
+    }
+    Eigen::Vector2d u;
+    const bool in_newest = projectToNewest(host_id, p, &u);
+    if (in_newest && occupied[cellOf(u)]) {
+      keep.push_back(p);
+      continue;
+    }
+    double activation_d = p.inverseDistanceEstimate();
+    if (options.activation.enabled) {
+      if (pool && !ahead[e]) refineAhead(e);
+      const NewPointRefinement r = ahead[e] ? *ahead[e] : refine(host_id, p);
+      if (r.verdict == NewPointVerdict::kUnobserved) {
         keep.push_back(p);
         continue;
       }
-      double activation_d = d;
-      if (options.activation.enabled) {
-        const NewPointRefinement r =
-            window->refineNewPoint(host_id, p.pixel, d, options.activation);
-        if (r.verdict == NewPointVerdict::kUnobserved) {
-          keep.push_back(p);
-          continue;
-        }
-        if (r.verdict == NewPointVerdict::kInconsistent) continue;  // a wrong match: drop
-        activation_d = r.inverse_distance;
-      }
-      if (in_newest) occupied[cellOf(u)] = 1;
-      if (window->addPoint(host_id, p.pixel, activation_d) < 0) continue;  // no valid residual
-      ++num_staying;
+      if (r.verdict == NewPointVerdict::kInconsistent) continue;  // a wrong match: drop
+      activation_d = r.inverse_distance;
     }
-    list.swap(keep);
+    if (in_newest) occupied[cellOf(u)] = 1;
+    if (window->addPoint(host_id, p.pixel, activation_d) < 0) continue;  // no valid residual
+    ++num_staying;
   }
+  for (auto& [host_id, list] : kept) immature.at(host_id).swap(list);
 }
 
 }  // namespace omnidso

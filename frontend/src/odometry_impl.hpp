@@ -21,6 +21,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <omnidso/core/task_pool.hpp>
 #include <omnidso/frontend/mapping_worker.hpp>
 #include <omnidso/frontend/odometry.hpp>
 #include <string>
@@ -38,6 +39,9 @@ struct Odometry::Impl {
   std::shared_ptr<const std::vector<Mask>> content_levels;
 
   std::unique_ptr<SlidingWindow> window;
+  // The compute threads (OdometryOptions::compute_threads): data-parallel steps whose results
+  // do not depend on the thread count. Null with one thread.
+  std::unique_ptr<TaskPool> pool;
   // What tracking aligns to: set by the mapping side (setTrackingReference), picked up by
   // the tracking side at its next frame (adoptPublishedReference). In the real-time mode the
   // two sides are two threads, hence the mutex.

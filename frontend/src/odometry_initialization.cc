@@ -39,6 +39,7 @@ void Odometry::Impl::initialize(FrameRecord& record, std::shared_ptr<const Image
   // little: room to spare, so that the slots never run out.
   window_options.max_points = std::max(window_options.max_points, 4 * options.num_points);
   window = std::make_unique<SlidingWindow>(camera.modelName(), camera.params(), window_options);
+  window->setTaskPool(pool.get());
   FrameRecord& first = frames[first_frame_index];
   window->addKeyframe(first.index, first.timestamp, first_exposure, SE3d(),
                       Eigen::Vector2d::Zero(), first_pyramid);

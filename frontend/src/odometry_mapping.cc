@@ -4,12 +4,20 @@
 // window is optimised, outliers removed, the keyframes the policy picks are marginalised
 // (their candidates with them), and the new keyframe gets its own candidates and becomes
 // the tracking reference. Timings of the stages go to the frame's record.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <omnidso/core/task_pool.hpp>
 #include <omnidso/core/timing.hpp>
 
 #include "odometry_impl.hpp"
 
 namespace omnidso {
+namespace {
+// Immature points per task of the search: a trace takes a few microseconds, a task hand-off
+// about one.
+constexpr int kTraceChunk = 32;
+}  // namespace
 
 void Odometry::Impl::map(const MappingJob& job) {
   Stopwatch watch;
@@ -20,16 +28,25 @@ void Odometry::Impl::map(const MappingJob& job) {
     AffineTransfer transfer;
     transfer.a = job.exposure * std::exp(job.affine.x()) / (host.exposure * std::exp(host.affine[0]));
     transfer.b = job.affine.y() - transfer.a * host.affine[1];
+    // Each trace reads the frame and writes only its own point: the points are traced in
+    // chunks on the compute threads (task_pool.hpp) and the list is compacted in order.
+    std::vector<std::uint8_t> dropped(list.size(), 0);
+    const int num_points = static_cast<int>(list.size());
+    const int num_chunks = (num_points + kTraceChunk - 1) / kTraceChunk;
+    runTasks(pool.get(), num_chunks, [&](int chunk) {
+      const int end = std::min(num_points, (chunk + 1) * kTraceChunk);
+      for (int i = chunk * kTraceChunk; i < end; ++i) {
+        const TraceResult r =
+            traceImmaturePoint(list[i], camera, T_frame_host, job.pyramid->level(0),
+                               job.pyramid->gradients(0), transfer, options.epipolar,
+                               job.pyramid->content(0));
+        dropped[i] = r.status == TraceStatus::kOutlier || r.status == TraceStatus::kOutOfBounds;
+      }
+    });
     std::vector<ImmaturePoint> keep;
     keep.reserve(list.size());
-    for (ImmaturePoint& p : list) {
-      const TraceResult r =
-          traceImmaturePoint(p, camera, T_frame_host, job.pyramid->level(0),
-                             job.pyramid->gradients(0), transfer, options.epipolar,
-                             job.pyramid->content(0));
-      if (r.status == TraceStatus::kOutlier || r.status == TraceStatus::kOutOfBounds) continue;
-      keep.push_back(p);
-    }
+    for (int i = 0; i < num_points; ++i)
+      if (!dropped[i]) keep.push_back(list[i]);
     list.swap(keep);
   }
   job.record->timing.search_ms = watch.lapMs();

@@ -495,6 +495,32 @@ TEST(WindowSolverDeterminism, SolvesBitForBitIndependentlyOfTheHeapLayout) {
   EXPECT_EQ(a_second, b_second);
 }
 
+// The same solves with the evaluation on compute threads (task_pool.hpp: each pair's sum in
+// one task, the points' and the cost's sums in residual order afterwards) come out bit for
+// bit equal to the solves on the calling thread alone, for 2 and 3 threads.
+TEST(WindowSolverDeterminism, SolvesBitForBitIndependentlyOfTheComputeThreads) {
+  auto solve = [](TaskPool* pool) {
+    auto window = windowWithPriors(solverOptions(true, true, 3));
+    window->setTaskPool(pool);
+    const WindowSolveSummary first = window->optimize();
+    window->removeOutliers();
+    window->marginalizeKeyframe(2);
+    moveNewestKeyframe(*window);
+    const WindowSolveSummary second = window->optimize();
+    EXPECT_EQ(second.linear_solver, "NATIVE_DENSE_SCHUR");
+    EXPECT_GT(first.iterations, 0);
+    return std::make_tuple(std::move(window), first.final_cost, second.final_cost);
+  };
+  const auto [a, a_first, a_second] = solve(nullptr);
+  for (int threads : {2, 3}) {
+    TaskPool pool(threads);
+    const auto [b, b_first, b_second] = solve(&pool);
+    expectSameStateBitForBit(*a, *b);
+    EXPECT_EQ(a_first, b_first) << threads << " threads";
+    EXPECT_EQ(a_second, b_second) << threads << " threads";
+  }
+}
+
 // optimizeCoarseToFine with the native solver: the coarser level on Ceres, level 0 native;
 // the perturbed window's cost comes down and the result is usable.
 TEST(WindowSolverCoarseToFine, SolvesLevelZeroNatively) {

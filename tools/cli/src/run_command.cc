@@ -17,6 +17,7 @@
 #include <omnidso/cli/staged_directory.hpp>
 #include <omnidso/core/dataset.hpp>
 #include <omnidso/core/error.hpp>
+#include <omnidso/core/task_pool.hpp>
 #include <omnidso/frontend/odometry.hpp>
 #include <omnidso/synth/dataset_loading.hpp>
 
@@ -33,6 +34,7 @@ struct RunArguments {
   bool no_intrinsics_opt = false;
   std::uint64_t seed = 0;
   int threads = 1;
+  int compute_threads = 0;  // 0: every hardware thread (deterministic mode), 1 (real-time mode)
   int max_frames = 0;
   std::string residuals = "analytic";
   bool force = false;
@@ -85,6 +87,11 @@ void runOdometry(const RunArguments& args) {
       args.residuals == "autodiff" ? DifferentiationMode::kAutodiff : DifferentiationMode::kAnalytic;
   o.tracker.num_threads = args.threads;
   o.realtime = args.threads > 1;  // mapping in its own thread (not repeatable bit for bit)
+  // The real-time mode's two threads already take a core each: its steps stay sequential
+  // unless asked.
+  o.compute_threads = args.compute_threads > 0 ? args.compute_threads
+                      : o.realtime             ? 1
+                                               : defaultComputeThreads();
   options.playback_speed = args.playback_speed;
   options.prefetch = !args.no_prefetch;
   if (!args.config.empty()) applyOdometryConfigFile(o, args.config);
@@ -110,6 +117,7 @@ void runOdometry(const RunArguments& args) {
   description.optimize_intrinsics = !args.no_intrinsics_opt;
   description.seed = args.seed;
   description.threads = args.threads;
+  description.compute_threads = o.compute_threads;
   description.residuals = args.residuals;
   description.frames_processed = total;
   description.wall_s = run.wall_s;
@@ -150,6 +158,13 @@ void registerRunCommand(CLI::App& app) {
                   "1: deterministic single-threaded mode; N > 1: real-time mode (mapping in its "
                   "own thread, Ceres with N threads)")
       ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  cmd->add_option("--compute-threads", args->compute_threads,
+                  "threads for the data-parallel steps (epipolar search, the window's "
+                  "evaluation, candidate refinement); the trajectory is the same bit for bit "
+                  "for any count. 0: every hardware thread in the deterministic mode, 1 in the "
+                  "real-time mode")
+      ->check(CLI::Range(0, 256))
       ->capture_default_str();
   cmd->add_option("--playback-speed", args->playback_speed,
                   "real-time mode: feed frames at this multiple of their recorded rate "

@@ -126,6 +126,7 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
                    {"optimize_intrinsics", d.optimize_intrinsics},
                    {"seed", d.seed},
                    {"threads", d.threads},
+                   {"compute_threads", d.compute_threads},
                    {"residuals", d.residuals},
                    {"odometry", d.settings}};
   s["counts"] = {{"frames", d.frames_processed},

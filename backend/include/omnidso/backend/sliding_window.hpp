@@ -57,6 +57,7 @@
 #include <omnidso/backend/parameter_slots.hpp>
 #include <omnidso/backend/photometric_factory.hpp>
 #include <omnidso/backend/window_problem.hpp>
+#include <omnidso/core/task_pool.hpp>
 #include <omnidso/core/pyramid.hpp>
 #include <omnidso/core/se3.hpp>
 #include <omnidso/residuals/evaluation_reuse.hpp>
@@ -176,6 +177,8 @@ struct WindowSolveSummary {
   std::string message;  // Ceres's termination message (the native solver writes the same)
 };
 
+struct WindowSolverWorkspace;  // window_solver.hpp
+
 class SlidingWindow {
  public:
   // intrinsics: the level-0 parameters of `model_name` ([fx fy cx cy …]).
@@ -198,6 +201,10 @@ class SlidingWindow {
   NewPointRefinement refineNewPoint(int host_id, const Eigen::Vector2d& pixel,
                                     double inverse_distance,
                                     const NewPointRefinementOptions& options) const;
+
+  // Compute threads for the native solve's evaluation and reduced system (task_pool.hpp; the
+  // results do not depend on them). Not owned; null: the calling thread alone.
+  void setTaskPool(TaskPool* pool) { pool_ = pool; }
 
   WindowSolveSummary optimize();
   // Coarse to fine: the same problem with every photometric residual evaluated on pyramid
@@ -289,6 +296,12 @@ class SlidingWindow {
   // parameters, point ids, hosts, inverse distances and targets, the intrinsics.
   std::vector<double> energyFingerprint() const;
   std::vector<MarginalizedPoint> marginalized_points_;
+  TaskPool* pool_ = nullptr;
+  // The native solver's residual kernel, kept from solve to solve: its buffers (a few MB)
+  // were allocated and first touched anew for every keyframe otherwise (nativeProblem).
+  std::shared_ptr<WindowPhotometricTerms> window_terms_;
+  std::uint64_t num_native_problems_ = 0;
+  std::unique_ptr<WindowSolverWorkspace> solver_workspace_;  // likewise (window_solver.hpp)
 };
 
 }  // namespace omnidso

@@ -83,10 +83,12 @@ class WindowNormalEquations {
   Eigen::VectorXd g_f_;
   Eigen::VectorXd h_p_, g_p_;
   RowMatrix W_;
-  // Workspace of solveStep, kept between steps.
+  // Workspace of solveStep and reducedCameraSystem, kept between steps (a fresh ŵ matrix
+  // per step was a megabyte of page faults each time).
   Eigen::MatrixXd lhs_;
   Eigen::VectorXd rhs_;
-  RowMatrix scaled_coupling_;
+  mutable RowMatrix scaled_coupling_;
+  mutable Eigen::VectorXd scaled_gradient_;
   Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> cholesky_;
 };
 

@@ -23,10 +23,14 @@
 // (out of the image, the model's domain, d < 0) carry OutOfBoundsPenalty's constant outlier
 // energy and a zero Jacobian.
 //
-// Host bearings b_o and ∂b_o/∂c are computed once per point and reused while the intrinsics
-// do not change (every evaluation of a solve with constant intrinsics; an evaluation and
-// the linearisation after an accepted step otherwise). Nothing is allocated per residual.
-// Summation order: points by id, targets by keyframe id, pairs by (host, target) index.
+// Host bearings b_o and ∂b_o/∂c are computed once per point and reused while the problem
+// (WindowProblem::id) and the intrinsics do not change (every evaluation of a solve with
+// constant intrinsics; an evaluation and the linearisation after an accepted step
+// otherwise). Nothing is allocated per residual, and the buffers are kept between calls.
+// Summation order: per pair, its residuals in problem order; per point and for the cost, the
+// residuals in problem order (points by id, targets by keyframe id); the pairs mapped to the
+// frames by (host, target) index. The residuals are evaluated pair by pair on the problem's
+// compute threads; the sums do not depend on them (window_photometric_terms.cc).
 
 #include <vector>
 #include <memory>

@@ -17,8 +17,10 @@
 #include <ceres/manifold.h>
 #include <ceres/problem.h>
 
+#include <cstdint>
 #include <memory>
 #include <omnidso/backend/photometric_factory.hpp>
+#include <omnidso/core/task_pool.hpp>
 #include <vector>
 
 namespace omnidso {
@@ -80,7 +82,13 @@ struct WindowProblem {
   const ceres::LossFunction* photometric_loss = nullptr;
   ImageInterpolation interpolation = ImageInterpolation::kBilinear;  // of the target images
   double out_of_bounds_energy = 0.0;  // ‖r‖² of an invalid residual (out_of_bounds_penalty.hpp)
-  std::shared_ptr<WindowPhotometricTerms> photometric;  // the model's residual kernel
+  // The model's residual kernel. A window keeps one for its lifetime (its buffers stay
+  // allocated from solve to solve); what it caches per problem is keyed on `id`.
+  std::shared_ptr<WindowPhotometricTerms> photometric;
+  std::uint64_t id = 0;  // different for every problem a window assembles
+  // Threads for the evaluation and the reduced system (null: the caller alone). Each sum is
+  // formed by one task in a fixed order, so the solve does not depend on them.
+  TaskPool* pool = nullptr;
 
   int frameSpaceSize() const {
     return kFrameTangentSize * static_cast<int>(frames.size()) + num_intrinsics;

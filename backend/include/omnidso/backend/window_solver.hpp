@@ -38,6 +38,7 @@
 
 #include <limits>
 #include <omnidso/backend/trust_region.hpp>
+#include <omnidso/backend/window_normal_equations.hpp>
 #include <omnidso/backend/window_problem.hpp>
 #include <string>
 #include <vector>
@@ -70,7 +71,14 @@ struct WindowSolverSummary {
   bool usable() const { return termination != WindowTermination::kFailure; }
 };
 
-// Solves in place: the result is in the problem's parameter blocks.
-WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolverOptions& options);
+// The normal equations at x and at the candidate (a few MB for 2000 points): kept by the
+// caller from solve to solve, so that they are not allocated and first touched anew each time.
+struct WindowSolverWorkspace {
+  WindowNormalEquations equations, candidate_equations;
+};
+
+// Solves in place: the result is in the problem's parameter blocks. `workspace` may be null.
+WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolverOptions& options,
+                                WindowSolverWorkspace* workspace = nullptr);
 
 }  // namespace omnidso

@@ -33,6 +33,7 @@ struct RunDescription {
   bool optimize_intrinsics = true;
   std::uint64_t seed = 0;
   int threads = 1;
+  int compute_threads = 1;  // as used (OdometryOptions::compute_threads, 0 resolved)
   std::string residuals;
   size_t frames_processed = 0;
   double wall_s = 0.0;
