@@ -52,7 +52,7 @@ FUZZ_DIR ?= build-fuzz
 # TSan build (the renderer's threads too), one sample per pixel. The 150-frame ctest form
 # (RealTimeMode, label `slow`) renders 4 samples per pixel under TSan before the odometry
 # starts (≈ 1.8 s of CPU a frame): it did not finish in 36 min on the shared machine.
-TSAN_TESTS ?= MappingWorker
+TSAN_TESTS ?= MappingWorker|TaskPool|WindowSolverDeterminism
 TSAN_FRAMES ?= 80
 
 # Eigen turns its "glibc malloc is 16-byte aligned" assumption off under __SANITIZE_ADDRESS__
@@ -106,7 +106,8 @@ TSAN_RUNTIME_OPTIONS = TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 sup
 test-tsan: deps
 	@cmake -S . -B $(TSAN_DIR) $(SANITIZER_CMAKE_FLAGS) \
 	  -DCMAKE_CXX_FLAGS="-fsanitize=thread -fno-omit-frame-pointer" >/dev/null
-	@cmake --build $(TSAN_DIR) --parallel $(JOBS) --target omnidso omnidso_frontend_tests
+	@cmake --build $(TSAN_DIR) --parallel $(JOBS) --target omnidso omnidso_frontend_tests \
+	  omnidso_core_tests omnidso_backend_tests
 	@cd $(TSAN_DIR) && $(TSAN_RUNTIME_OPTIONS) \
 	  ctest --output-on-failure --parallel $(JOBS) -R '$(TSAN_TESTS)'
 	@rm -rf $(TSAN_DIR)/realtime-check && mkdir -p $(TSAN_DIR)/realtime-check
@@ -114,6 +115,8 @@ test-tsan: deps
 	  --out $(TSAN_DIR)/realtime-check/sequence --quiet
 	@$(TSAN_RUNTIME_OPTIONS) $(TSAN_DIR)/tools/omnidso run $(TSAN_DIR)/realtime-check/sequence \
 	  --threads 2 --out $(TSAN_DIR)/realtime-check/run --quiet
+	@$(TSAN_RUNTIME_OPTIONS) $(TSAN_DIR)/tools/omnidso run $(TSAN_DIR)/realtime-check/sequence \
+	  --compute-threads 2 --out $(TSAN_DIR)/realtime-check/compute-threads --quiet
 
 # libFuzzer on every reader, 60 s each (clang; ctest label `fuzz`, not part of `make test`).
 fuzz:

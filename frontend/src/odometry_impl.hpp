@@ -120,6 +120,8 @@ struct Odometry::Impl {
   void makeKeyframe(FrameRecord& record, std::shared_ptr<const ImagePyramid> pyramid,
                     double exposure, const SE3d& T_world_frame, const Eigen::Vector2d& affine);
   void selectImmaturePoints(int id, const ImagePyramid& pyramid);
+  // Keyframe `id`'s candidates (reads only the image, the mask, the camera and the options).
+  std::vector<ImmaturePoint> selectCandidates(int id, const ImagePyramid& pyramid) const;
   void collectMarginalizedPoints();
 
   // odometry_activation.cc -------------------------------------------------------------

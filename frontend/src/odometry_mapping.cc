@@ -80,27 +80,41 @@ void Odometry::Impl::makeKeyframe(FrameRecord& record,
   window->removeOutliers();
   refreshKeyframeRecords();
   record.timing.outliers_ms = stage.lapMs();
-  for (int id : leaving) {
-    window->marginalizeKeyframe(id);
-    immature.erase(id);
-  }
+  // The new keyframe's candidates depend only on its image, the mask and the seed: with
+  // compute threads they are selected while the window marginalises (two tasks that share
+  // nothing), and their time is then part of marginalization_ms.
+  std::vector<ImmaturePoint> candidates;
+  runTasks(pool.get(), 2, [&](int task) {
+    if (task == 0) {
+      for (int id : leaving) window->marginalizeKeyframe(id);
+    } else {
+      candidates = selectCandidates(record.index, *pyramid);
+    }
+  });
+  for (int id : leaving) immature.erase(id);
   record.timing.marginalization_ms = stage.lapMs();
+  immature[record.index] = std::move(candidates);
   collectMarginalizedPoints();
-  selectImmaturePoints(record.index, *pyramid);
   setTrackingReference(record.index);
   record.timing.selection_ms = stage.lapMs();
 }
 
 void Odometry::Impl::selectImmaturePoints(int id, const ImagePyramid& pyramid) {
+  immature[id] = selectCandidates(id, pyramid);
+}
+
+std::vector<ImmaturePoint> Odometry::Impl::selectCandidates(int id,
+                                                            const ImagePyramid& pyramid) const {
   PixelSelectorOptions selection = options.initializer.selection;
   selection.desired_points = options.num_candidates;
   selection.seed = options.seed + static_cast<std::uint64_t>(id);
-  std::vector<ImmaturePoint>& list = immature[id];
+  std::vector<ImmaturePoint> list;
   for (const SelectedPixel& p : selectPixels(pyramid, mask, selection)) {
     ImmaturePoint point;
     if (makeImmaturePoint(camera, pyramid.level(0), id, p.pixel.cast<double>(), &point))
       list.push_back(point);
   }
+  return list;
 }
 
 void Odometry::Impl::collectMarginalizedPoints() {

@@ -75,8 +75,9 @@ struct FrameTiming {
   // Keyframes only: everything done for the keyframe (mapping_ms), and its stages in order:
   // entering the window and activating candidates (activation_ms), the window optimisation,
   // outlier removal (outliers_ms), the marginalisation, and the new keyframe's candidates
-  // and tracking reference (selection_ms). The stages sum to mapping_ms up to the
-  // stopwatches' own cost.
+  // and tracking reference (selection_ms; with compute threads the candidates are selected
+  // during the marginalisation and counted in marginalization_ms). The stages sum to
+  // mapping_ms up to the stopwatches' own cost.
   double mapping_ms = 0.0;
   double activation_ms = 0.0;
   double window_ms = 0.0;
