@@ -82,7 +82,7 @@ void Odometry::Impl::makeKeyframe(FrameRecord& record,
   record.timing.outliers_ms = stage.lapMs();
   // The new keyframe's candidates depend only on its image, the mask and the seed: with
   // compute threads they are selected while the window marginalises (two tasks that share
-  // nothing), and their time is then part of marginalization_ms.
+  // nothing). Either way their time is part of marginalization_ms.
   std::vector<ImmaturePoint> candidates;
   runTasks(pool.get(), 2, [&](int task) {
     if (task == 0) {

@@ -105,9 +105,9 @@ TEST(OdometryEndToEnd, Room185FisheyeSequenceIsAccurateAndDeterministic) {
     EXPECT_EQ(a, readFile(dir.file("run2/" + file))) << file << " differs between two runs";
   }
   // timing.csv accounts for each keyframe's mapping time: its stages (columns 8–12: window,
-  // marginalisation, activation, outliers, new candidates) are consecutive laps of one
-  // stopwatch inside it, so they sum to mapping_ms up to the CSV's 0.001 ms rounding and the
-  // few statements outside the stages.
+  // marginalisation with the new candidates, activation, outliers, tracking reference) are
+  // consecutive laps of one stopwatch inside it, so they sum to mapping_ms up to the CSV's
+  // 0.001 ms rounding and the few statements outside the stages.
   std::istringstream csv(readFile(dir.file("run1/timing.csv")));
   std::string line;
   std::getline(csv, line);

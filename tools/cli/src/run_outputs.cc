@@ -208,7 +208,7 @@ void printRunSummary(std::ostream& os, const nlohmann::json& s) {
                     t["mapping_ms_per_keyframe"]["mean"].get<double>(),
                     t["mapping_ms_per_keyframe"]["median"].get<double>());
   os << fmt::format("  of it (means) activation {:.1f}  window {:.1f}  outliers {:.1f}  "
-                    "marginalisation {:.1f}  new candidates {:.1f} ms\n",
+                    "marginalisation and new candidates {:.1f}  tracking reference {:.1f} ms\n",
                     t["activation_ms_per_keyframe"]["mean"].get<double>(),
                     t["window_ms_per_keyframe"]["mean"].get<double>(),
                     t["outliers_ms_per_keyframe"]["mean"].get<double>(),

@@ -74,10 +74,10 @@ struct FrameTiming {
                              // its mapping thread; here it runs after tracking)
   // Keyframes only: everything done for the keyframe (mapping_ms), and its stages in order:
   // entering the window and activating candidates (activation_ms), the window optimisation,
-  // outlier removal (outliers_ms), the marginalisation, and the new keyframe's candidates
-  // and tracking reference (selection_ms; with compute threads the candidates are selected
-  // during the marginalisation and counted in marginalization_ms). The stages sum to
-  // mapping_ms up to the stopwatches' own cost.
+  // outlier removal (outliers_ms), the marginalisation together with the new keyframe's
+  // candidates (marginalization_ms: with compute threads the two run side by side), and the
+  // tracking reference (selection_ms). The stages sum to mapping_ms up to the stopwatches'
+  // own cost.
   double mapping_ms = 0.0;
   double activation_ms = 0.0;
   double window_ms = 0.0;
