@@ -475,21 +475,26 @@ TEST(WindowSolverOutOfBounds, InvalidResidualsCostTheOutlierEnergy) {
 // Two windows built from the same data, with unrelated allocations in between (another heap
 // layout), come out of native solves — a solve, marginalisation, another solve — bit for bit
 // equal: everything is summed in point-id and keyframe order.
+// A native solve, marginalisation, another solve, on the window with priors; the window and
+// the two solves' final costs. `pool`: the solver's compute threads (null: none).
+std::tuple<std::unique_ptr<SlidingWindow>, double, double> solveMarginalizeSolve(TaskPool* pool) {
+  auto window = windowWithPriors(solverOptions(true, true, 3));
+  window->setTaskPool(pool);
+  const WindowSolveSummary first = window->optimize();
+  window->removeOutliers();
+  window->marginalizeKeyframe(2);
+  moveNewestKeyframe(*window);
+  const WindowSolveSummary second = window->optimize();
+  EXPECT_EQ(second.linear_solver, "NATIVE_DENSE_SCHUR");
+  EXPECT_GT(first.iterations, 0);
+  return std::make_tuple(std::move(window), first.final_cost, second.final_cost);
+}
+
 TEST(WindowSolverDeterminism, SolvesBitForBitIndependentlyOfTheHeapLayout) {
-  auto solve = [] {
-    auto window = windowWithPriors(solverOptions(true, true, 3));
-    const WindowSolveSummary first = window->optimize();
-    window->removeOutliers();
-    window->marginalizeKeyframe(2);
-    moveNewestKeyframe(*window);
-    const WindowSolveSummary second = window->optimize();
-    EXPECT_EQ(second.linear_solver, "NATIVE_DENSE_SCHUR");
-    return std::make_tuple(std::move(window), first.final_cost, second.final_cost);
-  };
-  const auto [a, a_first, a_second] = solve();
+  const auto [a, a_first, a_second] = solveMarginalizeSolve(nullptr);
   std::vector<std::unique_ptr<double[]>> clutter;
   for (int i = 0; i < 1000; ++i) clutter.emplace_back(new double[1 + i % 37]);
-  const auto [b, b_first, b_second] = solve();
+  const auto [b, b_first, b_second] = solveMarginalizeSolve(nullptr);
   expectSameStateBitForBit(*a, *b);
   EXPECT_EQ(a_first, b_first);
   EXPECT_EQ(a_second, b_second);
@@ -499,22 +504,10 @@ TEST(WindowSolverDeterminism, SolvesBitForBitIndependentlyOfTheHeapLayout) {
 // one task, the points' and the cost's sums in residual order afterwards) come out bit for
 // bit equal to the solves on the calling thread alone, for 2 and 3 threads.
 TEST(WindowSolverDeterminism, SolvesBitForBitIndependentlyOfTheComputeThreads) {
-  auto solve = [](TaskPool* pool) {
-    auto window = windowWithPriors(solverOptions(true, true, 3));
-    window->setTaskPool(pool);
-    const WindowSolveSummary first = window->optimize();
-    window->removeOutliers();
-    window->marginalizeKeyframe(2);
-    moveNewestKeyframe(*window);
-    const WindowSolveSummary second = window->optimize();
-    EXPECT_EQ(second.linear_solver, "NATIVE_DENSE_SCHUR");
-    EXPECT_GT(first.iterations, 0);
-    return std::make_tuple(std::move(window), first.final_cost, second.final_cost);
-  };
-  const auto [a, a_first, a_second] = solve(nullptr);
+  const auto [a, a_first, a_second] = solveMarginalizeSolve(nullptr);
   for (int threads : {2, 3}) {
     TaskPool pool(threads);
-    const auto [b, b_first, b_second] = solve(&pool);
+    const auto [b, b_first, b_second] = solveMarginalizeSolve(&pool);
     expectSameStateBitForBit(*a, *b);
     EXPECT_EQ(a_first, b_first) << threads << " threads";
     EXPECT_EQ(a_second, b_second) << threads << " threads";
