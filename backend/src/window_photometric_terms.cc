@@ -87,8 +87,8 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
       const int pair = used_pairs_[task];
       Eigen::Matrix<double, kN, 1> r;
       PatchDerivatives<kN, K> patch;
-      // The pair's Gram matrix is summed on the task's stack: neighbouring pairs' matrices
-      // share cache lines, and two threads updating them per residual halved the speed.
+      // The pair's Gram matrix is summed on the task's stack and stored once: neighbouring
+      // pairs' matrices share cache lines, which two threads should not write per residual.
       PairGram gram;
       gram.lower.setZero();
       for (int i = pair_begin_[pair]; i < pair_begin_[pair + 1]; ++i) {
@@ -327,7 +327,7 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   std::vector<Adjoint> adjoints_;       // Ad(T_th) per pair
   std::vector<PairGram> pair_grams_;
   std::vector<int> pair_begin_, residuals_by_pair_, position_by_pair_, used_pairs_;
-  std::vector<ResidualTerms> terms_;                              // per residual
+  std::vector<ResidualTerms> terms_;  // per residual, in residuals_by_pair_ order
 };
 
 }  // namespace

@@ -6,9 +6,9 @@
 // should not leave a core idle while a keyframe is mapped. The pool therefore promises
 // nothing about which thread runs which task or in what order; its callers split work so
 // that every task writes only its own outputs and every floating-point sum is formed by one
-// task in a fixed order (per epipolar trace, per host–target pair, per row block of the
-// reduced system). The result is then the same whatever the number of threads, including
-// one — which `task_pool_test.cc` and the odometry's thread-count test check.
+// task in a fixed order (per epipolar trace, per host–target pair of the window). The result
+// is then the same whatever the number of threads, including one — which the window solver's
+// and the odometry's thread-count tests check; `task_pool_test.cc` checks the pool.
 //
 // A run that cannot use the workers — the pool has none, one task, a task of this pool asks
 // for another run, or another thread is already running — runs its tasks in order on the

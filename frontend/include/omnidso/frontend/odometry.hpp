@@ -61,10 +61,11 @@ struct OdometryOptions {
   // thread while addFrame tracks the next frames; a lagging mapper skips the search in
   // non-keyframes. Not repeatable bit for bit (it depends on thread timing); off by default.
   bool realtime = false;
-  // Threads for the data-parallel steps (epipolar search, the window's evaluation and reduced
-  // system, candidate refinement), the caller included; 0: every hardware thread. Each step
-  // is split so that every sum is formed by one task in a fixed order: the trajectory is the
-  // same bit for bit for any count (core/task_pool.hpp).
+  // Threads for the steps that split into independent work (epipolar search, the window's
+  // evaluation, candidate refinement, the new candidates beside the marginalisation), the
+  // caller included; 0: every hardware thread. Each step is split so that every sum is formed
+  // by one task in a fixed order: the trajectory is the same bit for bit for any count
+  // (core/task_pool.hpp).
   int compute_threads = 1;
 };
 
