@@ -56,7 +56,6 @@
 #include <omnidso/backend/new_point_refinement.hpp>
 #include <omnidso/backend/parameter_slots.hpp>
 #include <omnidso/backend/photometric_factory.hpp>
-#include <omnidso/backend/residuals_by_target.hpp>
 #include <omnidso/backend/window_problem.hpp>
 #include <omnidso/core/task_pool.hpp>
 #include <omnidso/core/pyramid.hpp>
@@ -148,7 +147,7 @@ struct WindowPoint {
   int host_id = 0;
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // level 0
   HostPatch<kWindowPatternSize> patch;
-  ResidualsByTarget residuals;  // by target keyframe id, ascending
+  std::map<int, ceres::ResidualBlockId> residuals;  // by target keyframe id
 
   // The host intensity at the point's own pixel: offset (0, 0) is index 4 of DSO's pattern.
   float hostIntensity() const { return static_cast<float>(patch.intensity[4]); }
