@@ -1,5 +1,6 @@
 // TaskPool (task_pool.hpp): workers sleep on a condition variable until a run publishes a new
 // generation, then take task indices from one atomic counter until none is left.
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <exception>
@@ -110,8 +111,11 @@ void TaskPool::run(int num_tasks, const std::function<void(int)>& task) {
 }
 
 int defaultComputeThreads() {
+  // At most 8: the window's evaluation has one task per host–target pair (≈ 40 with 7
+  // keyframes) and activation refines batches of 64, so more threads would mostly wake up to
+  // find nothing left.
   const unsigned n = std::thread::hardware_concurrency();
-  return n == 0 ? 1 : static_cast<int>(n);
+  return n == 0 ? 1 : static_cast<int>(std::min(n, 8u));
 }
 
 }  // namespace omnidso

@@ -40,7 +40,7 @@ Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
   options.window.num_threads = std::max(1, options.window.num_threads);
   if (options.compute_threads < 0)
     throw Error("Odometry: compute_threads is " + std::to_string(options.compute_threads) +
-                " (0: every hardware thread, 1: none besides the caller)");
+                " (0: the hardware threads, up to 8; 1: none besides the caller)");
   const int compute_threads =
       options.compute_threads == 0 ? defaultComputeThreads() : options.compute_threads;
   if (compute_threads > 1) pool = std::make_unique<TaskPool>(compute_threads);

@@ -34,7 +34,7 @@ struct RunArguments {
   bool no_intrinsics_opt = false;
   std::uint64_t seed = 0;
   int threads = 1;
-  int compute_threads = 0;  // 0: every hardware thread (deterministic mode), 1 (real-time mode)
+  int compute_threads = 0;  // 0: the hardware threads, up to 8 (deterministic mode); 1 (real-time)
   int max_frames = 0;
   std::string residuals = "analytic";
   bool force = false;
@@ -162,7 +162,7 @@ void registerRunCommand(CLI::App& app) {
   cmd->add_option("--compute-threads", args->compute_threads,
                   "threads for the data-parallel steps (epipolar search, the window's "
                   "evaluation, candidate refinement); the trajectory is the same bit for bit "
-                  "for any count. 0: every hardware thread in the deterministic mode, 1 in the "
+                  "for any count. 0: the hardware threads (at most 8) in the deterministic mode, 1 in the "
                   "real-time mode")
       ->check(CLI::Range(0, 256))
       ->capture_default_str();

@@ -46,7 +46,7 @@ inline void runTasks(TaskPool* pool, int num_tasks, const std::function<void(int
   for (int i = 0; i < num_tasks; ++i) task(i);
 }
 
-// The thread count `0` stands for: the machine's hardware threads (at least 1).
+// The thread count `0` stands for: the machine's hardware threads, at least 1 and at most 8.
 int defaultComputeThreads();
 
 }  // namespace omnidso

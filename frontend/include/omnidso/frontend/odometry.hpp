@@ -63,9 +63,9 @@ struct OdometryOptions {
   bool realtime = false;
   // Threads for the steps that split into independent work (epipolar search, the window's
   // evaluation, candidate refinement, the new candidates beside the marginalisation), the
-  // caller included; 0: every hardware thread. Each step is split so that every sum is formed
-  // by one task in a fixed order: the trajectory is the same bit for bit for any count
-  // (core/task_pool.hpp).
+  // caller included; 0: the hardware threads (at most 8). Each step is split so that every
+  // sum is formed by one task in a fixed order: the trajectory is the same bit for bit for
+  // any count (core/task_pool.hpp).
   int compute_threads = 1;
 };
 
