@@ -66,12 +66,9 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
                                            host.exposure, target.exposure);
         if (equations) adjoints_[pair] = adjointOf(pairs_[pair]);
       }
-    if (equations) {
+    if (equations) {  // a pair with residuals gets its Gram matrix from its task below
       pair_grams_.resize(pairs_.size());
-      for (PairGram& g : pair_grams_) {
-        g.lower.setZero();
-        g.used = false;
-      }
+      for (PairGram& g : pair_grams_) g.used = false;
     }
 
     // The residuals are evaluated pair by pair on the compute threads: each pair's Gram

@@ -302,10 +302,7 @@ InitializerSolverSummary solveInitializerLevel(const InitializerLevelProblem& pr
   }
   const LevenbergMarquardtRun run = runLevenbergMarquardt(it, options, x_cost);
   summary.termination = initializerTermination(run.termination);
-  summary.iterations = run.iterations;
-  summary.successful_steps = run.successful_steps;
-  summary.unsuccessful_steps = run.unsuccessful_steps;
-  summary.final_cost = run.final_cost;
+  recordRun(run, &summary);
   if (summary.termination == InitializerTermination::kFailure) {
     summary.energies = start_energies;
     return summary;

@@ -200,10 +200,7 @@ TrackerSolverSummary solveTracker(const TrackerProblem& problem,
 
   const LevenbergMarquardtRun run = runLevenbergMarquardt(it, options, x_cost);
   summary.termination = trackerTermination(run.termination);
-  summary.iterations = run.iterations;
-  summary.successful_steps = run.successful_steps;
-  summary.unsuccessful_steps = run.unsuccessful_steps;
-  summary.final_cost = run.final_cost;
+  recordRun(run, &summary);
   if (summary.termination != TrackerTermination::kFailure) {
     std::copy_n(it.x.begin(), 7, pose);
     std::copy_n(it.x.begin() + 7, 2, affine);

@@ -38,6 +38,16 @@ struct LevenbergMarquardtRun {
   double final_cost = 0.0;     // the least cost of any iteration
 };
 
+// The run's counts and final cost into a solver's summary with fields of these names
+// (TrackerSolverSummary, InitializerSolverSummary); each solver maps the termination itself.
+template <class Summary>
+void recordRun(const LevenbergMarquardtRun& run, Summary* summary) {
+  summary->iterations = run.iterations;
+  summary->successful_steps = run.successful_steps;
+  summary->unsuccessful_steps = run.unsuccessful_steps;
+  summary->final_cost = run.final_cost;
+}
+
 // Runs from x with cost `x_cost` and its normal equations (iteration 0, the caller's).
 template <class Problem>
 LevenbergMarquardtRun runLevenbergMarquardt(Problem& problem,
