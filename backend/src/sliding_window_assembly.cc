@@ -2,7 +2,9 @@
 // affine parameter blocks (the first one held constant: the pose and brightness gauge), points
 // with their inverse-distance block, and one photometric residual block per (point, target
 // keyframe) pair whose projection is valid — eq. 5–7 with DSO's 8-pixel pattern, wrapped in
-// OutOfBoundsPenalty and, when evaluations are reused, in ReusingCostFunction.
+// OutOfBoundsPenalty and, when evaluations are reused, in ReusingCostFunction. Where the native
+// solver solves level 0, a residual's block is deferred: the point records its target, and
+// the block enters the ceres::Problem only when a Ceres path needs it (sliding_window.hpp).
 #include <omnidso/backend/affine_prior.hpp>
 #include <omnidso/backend/sliding_window.hpp>
 #include <omnidso/cameras/pyramid_scaling.hpp>
@@ -67,19 +69,63 @@ std::optional<WindowObservation> SlidingWindow::observation(const WindowPoint& p
 }
 
 bool SlidingWindow::addResidual(WindowPoint& point, WindowKeyframe& target, int level) {
+  const std::optional<WindowObservation> obs = observation(point, target, level);
+  if (!obs) return false;
+  std::array<double*, 6> blocks = residualParameters(point, target);
+  if (factory_->status(*obs, blocks.data()) != PhotometricStatus::kValid) return false;
+  point.residuals[target.id] =
+      defersResidualBlocks(level) ? nullptr : addResidualBlock(point, target, *obs);
+  return true;
+}
+
+std::array<double*, 6> SlidingWindow::residualParameters(WindowPoint& point,
+                                                         WindowKeyframe& target) {
   WindowKeyframe& host = keyframeRef(point.host_id);
-  const std::optional<WindowObservation> maybe_obs = observation(point, target, level);
-  if (!maybe_obs) return false;
-  const WindowObservation& obs = *maybe_obs;
-  std::vector<double*> blocks = {host.pose.data(),   target.pose.data(),  &point.inverse_distance,
-                                 host.affine.data(), target.affine.data(), intrinsics_.data()};
-  if (factory_->status(obs, blocks.data()) != PhotometricStatus::kValid) return false;
+  return {host.pose.data(),   target.pose.data(),   &point.inverse_distance,
+          host.affine.data(), target.affine.data(), intrinsics_.data()};
+}
+
+OutOfBoundsPenalty* SlidingWindow::makeResidualCost(const WindowObservation& obs) {
   ceres::CostFunction* cost = factory_->makeCost(options_.differentiation, obs);
   if (options_.reuse_evaluations) cost = new ReusingCostFunction(cost, &evaluation_reuse_);
-  point.residuals[target.id] = problem_->AddResidualBlock(
-      new OutOfBoundsPenalty(cost, options_.outlier_energy_per_pixel * kWindowPatternSize),
-      loss_.get(), blocks);
-  return true;
+  return new OutOfBoundsPenalty(cost, options_.outlier_energy_per_pixel * kWindowPatternSize);
+}
+
+ceres::ResidualBlockId SlidingWindow::addResidualBlock(WindowPoint& point, WindowKeyframe& target,
+                                                       const WindowObservation& obs) {
+  std::array<double*, 6> blocks = residualParameters(point, target);
+  return problem_->AddResidualBlock(makeResidualCost(obs), loss_.get(), blocks.data(),
+                                    static_cast<int>(blocks.size()));
+}
+
+bool SlidingWindow::defersResidualBlocks(int level) const {
+  return level == 0 && nativeSolverApplies();
+}
+
+void SlidingWindow::materializeResidualBlocks(WindowPoint& point) {
+  for (auto& [target_id, id] : point.residuals) {
+    if (id) continue;
+    WindowKeyframe& target = keyframeRef(target_id);
+    // Level 0 (only level-0 blocks are deferred), whose observation always exists.
+    id = addResidualBlock(point, target, *observation(point, target, 0));
+  }
+}
+
+void SlidingWindow::materializeResidualBlocks() {
+  for (auto& [pid, point] : points_) materializeResidualBlocks(*point);
+}
+
+void SlidingWindow::removeResidualBlock(ceres::ResidualBlockId id) {
+  if (id) problem_->RemoveResidualBlock(id);
+}
+
+double SlidingWindow::residualEnergy(WindowPoint& point, int target_id,
+                                     ceres::ResidualBlockId id) {
+  if (id) return rawEnergy(*problem_, id);
+  WindowKeyframe& target = keyframeRef(target_id);
+  const std::unique_ptr<OutOfBoundsPenalty> cost(makeResidualCost(*observation(point, target, 0)));
+  const std::array<double*, 6> blocks = residualParameters(point, target);
+  return cost->rawEnergy(blocks.data());
 }
 
 int SlidingWindow::addPoint(int host_id, const Eigen::Vector2d& pixel, double inverse_distance) {

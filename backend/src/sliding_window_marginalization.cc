@@ -73,6 +73,8 @@ void SlidingWindow::marginalizeKeyframe(int id) {
       recordMarginalized(*point);
     }
   }
+  // The marginaliser linearises through Ceres: these points' deferred blocks enter the problem.
+  for (int pid : marginalized_ids) materializeResidualBlocks(pointRef(pid));
   if (!to_marginalize.empty() && marginalizer_.marginalize(*problem_, to_marginalize))
     has_prior_ = true;
   for (int pid : marginalized_ids) {
@@ -89,7 +91,7 @@ void SlidingWindow::marginalizeKeyframe(int id) {
   for (auto& [pid, point] : points_) {
     const auto it = point->residuals.find(id);
     if (it == point->residuals.end()) continue;
-    problem_->RemoveResidualBlock(it->second);
+    removeResidualBlock(it->second);
     point->residuals.erase(it);
     if (point->residuals.empty()) emptied.push_back(pid);
   }

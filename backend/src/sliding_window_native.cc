@@ -11,6 +11,7 @@ namespace omnidso {
 
 ceres::Problem& SlidingWindow::mutableProblem() {
   all_residuals_valid_ = false;
+  materializeResidualBlocks();
   return *problem_;
 }
 

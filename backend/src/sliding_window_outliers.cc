@@ -22,13 +22,14 @@ int SlidingWindow::removeResiduals(double max_energy, int min_residuals_per_poin
   for (auto& [pid, point] : points_) {
     for (auto it = point->residuals.begin(); it != point->residuals.end(); ++k) {
       // Every photometric block of the window is an OutOfBoundsPenalty (addResidual).
-      const double energy =
-          k < energies.size() ? energies[k] : rawEnergy(*problem_, it->second);
+      const double energy = k < energies.size()
+                                ? energies[k]
+                                : residualEnergy(*point, it->first, it->second);
       if (energy <= max_energy) {
         ++it;
         continue;
       }
-      problem_->RemoveResidualBlock(it->second);
+      removeResidualBlock(it->second);
       it = point->residuals.erase(it);
       ++removed;
     }

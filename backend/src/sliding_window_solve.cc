@@ -51,7 +51,7 @@ WindowSolveSummary SlidingWindow::optimize() {
 void SlidingWindow::rebuildResiduals(int level,
                                      const std::map<int, std::vector<int>>& targets_by_point) {
   for (auto& [pid, point] : points_) {
-    for (const auto& [target, id] : point->residuals) problem_->RemoveResidualBlock(id);
+    for (const auto& [target, id] : point->residuals) removeResidualBlock(id);
     point->residuals.clear();
     for (int target : targets_by_point.at(pid)) addResidual(*point, keyframeRef(target), level);
   }
@@ -88,16 +88,21 @@ WindowSolveSummary SlidingWindow::optimizeCoarseToFine(int num_levels) {
   return total;
 }
 
+bool SlidingWindow::nativeSolverApplies() const {
+  return options_.native_solver && options_.differentiation == DifferentiationMode::kAnalytic &&
+         !options_.jacobi_scaling;
+}
+
 WindowSolveSummary SlidingWindow::solve(int level) {
   WindowSolveSummary out;
   out.num_points = numPoints();
   out.num_keyframes = numKeyframes();
   out.num_residuals = numResiduals();
   if (out.num_residuals == 0) return out;
-  if (options_.native_solver && level == 0 &&
-      options_.differentiation == DifferentiationMode::kAnalytic && !options_.jacobi_scaling) {
+  if (level == 0 && nativeSolverApplies()) {
     if (const std::optional<WindowProblem> native = nativeProblem()) return solveNative(*native, out);
   }
+  materializeResidualBlocks();  // Ceres solves every residual
 
   // Elimination order, independent of memory addresses (Ceres orders the blocks within a
   // group by address): points first (group 0, eliminated; their slots make address order

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 #include <omnidso/backend/sliding_window.hpp>
+#include <omnidso/residuals/out_of_bounds_penalty.hpp>
 #include <omnidso/synth/synthetic_sequence.hpp>
 #include <random>
 
@@ -180,6 +181,49 @@ TEST(SlidingWindow, ReusingEvaluationsChangesNoBit) {
     return window;
   };
   expectSameStateBitForBit(*solve(false), *solve(true));
+}
+
+// Deferred residual blocks (sliding_window.hpp): a window the native solver solves keeps its
+// photometric residuals out of the ceres::Problem — also after a solve, the outlier pass and a
+// marginalisation, which adds the marginalised points' blocks and removes them with the points
+// — until mutableProblem() asks for the problem, which then holds one block per residual. A
+// window solved by Ceres adds every block at once. (That the deferred marginalisation builds
+// the same prior is WindowSolverAgainstCeres.ReachesTheSameSolution.)
+TEST(SlidingWindowDeferredBlocks, OnlyACeresPathAddsPhotometricBlocksToTheProblem) {
+  const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
+  const int num_keyframes = 4;
+  const WindowScene ws(camera, num_keyframes, sweep);
+  const auto countBlocks = [](const SlidingWindow& window, int* deferred, int* added) {
+    *deferred = *added = 0;
+    for (const auto& [pid, point] : window.points())
+      for (const auto& [target, id] : point->residuals) ++*(id ? added : deferred);
+  };
+  for (const bool native : {true, false}) {
+    SCOPED_TRACE(native ? "native solver" : "Ceres");
+    WindowOptions options = recoveryOptions(num_keyframes, true);
+    options.max_iterations = 2;
+    options.native_solver = native;
+    auto window = perturbedWindow(camera, ws, options, num_keyframes);
+    window->optimize();
+    window->removeOutliers();
+    window->marginalizeKeyframe(1);
+    ASSERT_TRUE(window->hasPrior());
+    ASSERT_GT(window->numResiduals(), 100);
+    int deferred = 0, added = 0;
+    countBlocks(*window, &deferred, &added);
+    EXPECT_EQ(deferred, native ? window->numResiduals() : 0);
+    const ceres::Problem& problem = window->mutableProblem();
+    countBlocks(*window, &deferred, &added);
+    EXPECT_EQ(deferred, 0);
+    EXPECT_EQ(added, window->numResiduals());
+    std::vector<ceres::ResidualBlockId> blocks;
+    problem.GetResidualBlocks(&blocks);
+    int photometric = 0;
+    for (ceres::ResidualBlockId id : blocks)
+      photometric += dynamic_cast<const OutOfBoundsPenalty*>(
+                         problem.GetCostFunctionForResidualBlock(id)) != nullptr;
+    EXPECT_EQ(photometric, window->numResiduals());
+  }
 }
 
 // The scale gauge outlives its first anchor (sliding_window.hpp, "Gauge"): when the point

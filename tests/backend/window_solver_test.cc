@@ -437,9 +437,10 @@ TEST(WindowSolverOutOfBounds, InvalidResidualsCostTheOutlierEnergy) {
   const int id = std::next(window->points().begin(), index)->first;
   const WindowPoint& point = *window->points().at(id);
   double valid_costs = 0.0;
+  ceres::Problem& problem = window->mutableProblem();  // every residual block in it
   for (const auto& [target, block] : point.residuals) {
     double c = 0.0;  // Ceres's cost of the block, loss applied
-    ASSERT_TRUE(window->mutableProblem().EvaluateResidualBlock(block, true, &c, nullptr, nullptr));
+    ASSERT_TRUE(problem.EvaluateResidualBlock(block, true, &c, nullptr, nullptr));
     valid_costs += c;
   }
   const double delta = options.huber_threshold * std::sqrt(8.0);
@@ -464,11 +465,11 @@ TEST(WindowSolverOutOfBounds, InvalidResidualsCostTheOutlierEnergy) {
   int invalid = 0;
   for (const auto& [pid, p] : window->points())
     for (const auto& [target, block] : p->residuals)
-      invalid += std::isinf(rawEnergy(window->mutableProblem(), block));
+      invalid += std::isinf(rawEnergy(problem, block));
   EXPECT_GT(invalid, 20);
   ASSERT_TRUE(evaluateWindow(*native, nullptr, &after));
   double ceres_cost = 0.0;
-  ASSERT_TRUE(window->mutableProblem().Evaluate({}, &ceres_cost, nullptr, nullptr, nullptr));
+  ASSERT_TRUE(problem.Evaluate({}, &ceres_cost, nullptr, nullptr, nullptr));
   EXPECT_NEAR(after.total(), ceres_cost, 1e-12 * ceres_cost);
 }
 

@@ -7,6 +7,15 @@
 // affine parameters and — when enabled — the intrinsics shared by all keyframes; the
 // marginalisation priors stay in it.
 //
+// Deferred residual blocks: where the native solver solves level 0 (WindowOptions::
+// native_solver, analytic residuals, no Jacobi scaling), a photometric residual is recorded
+// by its point and target only (WindowPoint::residuals holds nullptr), and its residual block
+// enters the problem when a Ceres path needs it: for the points being marginalised (the
+// marginaliser linearises through Ceres), before a Ceres solve, and for mutableProblem(). The
+// native solver reads the same residuals from the points. Adding and removing ≈ 12 000 blocks
+// per keyframe step — Ceres's hash sets per parameter block — was a quarter of a keyframe's
+// mapping time on one thread (docs/performance.md, "Deferred residual blocks").
+//
 // Solving: points form the first elimination group, so Ceres's Schur complement removes them
 // (DENSE_SCHUR while the reduced camera system is small, SPARSE_SCHUR beyond);
 // Levenberg–Marquardt with an iteration limit (DSO: at most 6 Gauss–Newton iterations per
@@ -61,6 +70,7 @@
 #include <omnidso/core/pyramid.hpp>
 #include <omnidso/core/se3.hpp>
 #include <omnidso/residuals/evaluation_reuse.hpp>
+#include <omnidso/residuals/out_of_bounds_penalty.hpp>
 #include <string>
 #include <vector>
 
@@ -147,7 +157,8 @@ struct WindowPoint {
   int host_id = 0;
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // level 0
   HostPatch<kWindowPatternSize> patch;
-  std::map<int, ceres::ResidualBlockId> residuals;  // by target keyframe id
+  // By target keyframe id; nullptr while the block is deferred (not yet in the problem).
+  std::map<int, ceres::ResidualBlockId> residuals;
 
   // The host intensity at the point's own pixel: offset (0, 0) is index 4 of DSO's pattern.
   float hostIntensity() const { return static_cast<float>(patch.intensity[4]); }
@@ -241,15 +252,33 @@ class SlidingWindow {
   WindowKeyframe& mutableKeyframe(int id);
   WindowPoint& mutablePoint(int id);
   Eigen::VectorXd& mutableIntrinsics();
-  // Test access: the ceres::Problem, and the native solver's view of it (window_problem.hpp;
-  // nullopt where the problem holds a residual block the native solver does not handle).
+  // Test access: the ceres::Problem, every deferred residual block added to it first, and
+  // the native solver's view of the window (window_problem.hpp; nullopt where the problem
+  // holds a residual block the native solver does not handle).
   ceres::Problem& mutableProblem();
   std::optional<WindowProblem> nativeProblem();
 
  private:
   WindowKeyframe& keyframeRef(int id);
   WindowPoint& pointRef(int id);
+  // Records a residual of `point` in `target` when its projection is valid: its block is
+  // added to the problem, or deferred (defersResidualBlocks).
   bool addResidual(WindowPoint& point, WindowKeyframe& target, int level = 0);
+  // The residual's parameter blocks: host pose, target pose, inverse distance, host affine,
+  // target affine, intrinsics.
+  std::array<double*, 6> residualParameters(WindowPoint& point, WindowKeyframe& target);
+  OutOfBoundsPenalty* makeResidualCost(const WindowObservation& obs);
+  ceres::ResidualBlockId addResidualBlock(WindowPoint& point, WindowKeyframe& target,
+                                          const WindowObservation& obs);
+  // Whether the native solver solves level 0 of this window (solve()).
+  bool nativeSolverApplies() const;
+  bool defersResidualBlocks(int level) const;
+  // Adds the deferred blocks of one point, or of every point, to the problem.
+  void materializeResidualBlocks(WindowPoint& point);
+  void materializeResidualBlocks();
+  void removeResidualBlock(ceres::ResidualBlockId id);  // nothing for a deferred one
+  // The raw energy (out_of_bounds_penalty.hpp) of the residual of `point` in `target_id`.
+  double residualEnergy(WindowPoint& point, int target_id, ceres::ResidualBlockId id);
   std::optional<WindowObservation> observation(const WindowPoint& point,
                                                const WindowKeyframe& target, int level) const;
   void rebuildResiduals(int level, const std::map<int, std::vector<int>>& targets_by_point);
