@@ -69,6 +69,8 @@ bool Initializer::hasFirstFrame() const { return impl_->first != nullptr; }
 int Initializer::numFramesTried() const { return impl_->frames_tried; }
 const std::string& Initializer::status() const { return impl_->status; }
 
+void Initializer::setTaskPool(TaskPool* pool) { impl_->pool = pool; }
+
 void Initializer::setFirstFrame(std::shared_ptr<const ImagePyramid> pyramid, double exposure) {
   impl_->first = std::move(pyramid);
   impl_->first_exposure = exposure;

@@ -13,6 +13,7 @@
 #include <memory>
 #include <omnidso/backend/photometric_factory.hpp>
 #include <omnidso/core/error.hpp>
+#include <omnidso/core/task_pool.hpp>
 #include <omnidso/frontend/initializer.hpp>
 #include <omnidso/frontend/initializer_level_patches.hpp>
 #include <omnidso/frontend/initializer_solver.hpp>
@@ -29,6 +30,7 @@ struct Initializer::Impl {
   Mask mask;
   InitializerOptions options;
   std::unique_ptr<PhotometricResidualFactory> factory;
+  TaskPool* pool = nullptr;  // not owned; null: the calling thread alone
   std::shared_ptr<const ImagePyramid> first;
   double first_exposure = 1.0;
   std::vector<Eigen::Vector2d> pixels;

@@ -4,6 +4,7 @@
 // the rotation search's costs by either.
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -240,11 +241,22 @@ std::vector<double> Initializer::Impl::candidateCosts(int level, const ImagePyra
     const NativeLevel nl = buildNativeLevel(level, frame, exposure, snapped);
     std::vector<double> d;
     for (size_t i : nl.points) d.push_back(inverse_distances[i]);
-    std::array<double, 7> candidate_pose;
-    for (size_t k = 0; k < candidates.size() && !nl.points.empty(); ++k) {
-      candidates[k].toParameters(candidate_pose.data());
-      costs.push_back(initializerLevelCost(nl.problem, candidate_pose.data(), affine.data(), d));
-    }
+    // One contiguous chunk of candidates per compute thread, each with its own copy of the
+    // patches (setPoint keeps the frame state in them): every cost is the same evaluation,
+    // in the same order of operations, whatever the thread count.
+    if (!nl.points.empty()) costs.resize(candidates.size());
+    const int n = static_cast<int>(costs.size());
+    const int chunks = std::min(n, pool ? pool->numThreads() : 1);
+    runTasks(pool, chunks, [&](int c) {
+      std::unique_ptr<InitializerPatches> copy;
+      InitializerLevelProblem problem = nl.problem;
+      if (c > 0) problem.patches = (copy = nl.problem.patches->clone()).get();
+      std::array<double, 7> candidate_pose;
+      for (int k = n * c / chunks; k < n * (c + 1) / chunks; ++k) {
+        candidates[k].toParameters(candidate_pose.data());
+        costs[k] = initializerLevelCost(problem, candidate_pose.data(), affine.data(), d);
+      }
+    });
   } else {
     const LevelProblem lp = buildLevel(level, frame, exposure, snapped);
     for (size_t k = 0; k < candidates.size() && !lp.blocks.empty(); ++k) {

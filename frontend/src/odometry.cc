@@ -54,6 +54,7 @@ void Odometry::Impl::newInitializer() {
   init.selection.desired_points = options.num_points;
   init.selection.seed = options.seed;
   initializer = std::make_unique<Initializer>(camera, mask, init);
+  initializer->setTaskPool(pool.get());
 }
 
 SE3d Odometry::Impl::keyframePose(int id) const {

@@ -181,6 +181,41 @@ TEST(InitializerSolverTest, RotationSearchCostsAgreeWithCeres) {
   }
 }
 
+// The rotation search's costs on compute threads (Initializer::setTaskPool): one task per
+// candidate, each the same evaluation as on one thread, so the costs are the same bit for bit
+// for 1, 2 and 3 threads.
+TEST(InitializerSolverTest, RotationSearchCostsAreBitIdenticalOnComputeThreads) {
+  const RenderedPair pair("pinhole", 90.0, {0.02, 0.0, 0.0}, {7.3, 7.3, 0.0});
+  const ImagePyramid frame = pair.frame();
+  std::vector<SE3d> candidates;
+  for (int x = -2; x <= 2; ++x)
+    for (int y = -2; y <= 2; ++y)
+      candidates.push_back(test::moveInCamera(SE3d(), {0.01, 0.0, 0.0},
+                                              Eigen::Vector3d(x, y, 0.5 * x) * 1.2));
+  std::vector<double> one_thread;
+  for (const int threads : {1, 2, 3}) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    const auto init = pair.initializer(true);
+    std::unique_ptr<TaskPool> pool;
+    if (threads > 1) pool = std::make_unique<TaskPool>(threads);
+    init->setTaskPool(pool.get());
+    InitializerState state = init->state();
+    for (size_t i = 0; i < state.inverse_distances.size(); ++i)
+      state.inverse_distances[i] = 1.0 + 0.3 * std::sin(0.7 * i);
+    const std::vector<double> costs =
+        init->rotationSearchCosts(frame, 1.0, 3, true, state, candidates);
+    ASSERT_EQ(costs.size(), candidates.size());
+    if (threads == 1) {
+      one_thread = costs;
+      // The costs differ from candidate to candidate: a mix-up of tasks would show.
+      EXPECT_GT(*std::max_element(costs.begin(), costs.end()),
+                1.2 * *std::min_element(costs.begin(), costs.end()));
+    } else {
+      for (size_t k = 0; k < costs.size(); ++k) EXPECT_EQ(costs[k], one_thread[k]) << "candidate " << k;
+    }
+  }
+}
+
 // Feeds frames until done; the result with both solvers.
 InitializationResult initialise(const RenderedPair& pair, bool native, int levels,
                                 const std::function<SE3d(const SE3d&, int)>& path, int* frames) {

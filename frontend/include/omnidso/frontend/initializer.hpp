@@ -28,6 +28,7 @@
 #include <omnidso/cameras/camera.hpp>
 #include <omnidso/core/pyramid.hpp>
 #include <omnidso/core/se3.hpp>
+#include <omnidso/core/task_pool.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
 #include <string>
 #include <vector>
@@ -99,6 +100,9 @@ class Initializer {
   InitializationResult addFrame(const ImagePyramid& frame, double exposure);
   // A human-readable account of the last attempt (why it is not done yet).
   const std::string& status() const;
+  // Compute threads for the rotation search's candidate costs (task_pool.hpp; the result
+  // does not depend on them). Not owned; null: the calling thread alone.
+  void setTaskPool(TaskPool* pool);
 
   // The steps of addFrame, on a given state instead of the initialiser's own (which they
   // leave unchanged): the current state; one level's solve (before or after the snap);

@@ -51,6 +51,8 @@ class InitializerLevelPatches final : public InitializerLevelPatchesBase {
 
   void setFrame(const ImageF& image, const Mask* content, double frame_exposure) override {
     sampler_.emplace(image, ImageInterpolation::kBilinear, content);
+    image_ = &image;
+    content_ = content;
     frame_exposure_ = frame_exposure;
     size_ = 0;  // the storage is kept and overwritten (no allocation, no zeroing)
   }
@@ -68,6 +70,16 @@ class InitializerLevelPatches final : public InitializerLevelPatchesBase {
     return true;
   }
 
+  std::unique_ptr<InitializerPatches> clone() const override {
+    auto copy = std::make_unique<InitializerLevelPatches>(camera_, host_exposure_, host_pose_,
+                                                          host_affine_, 0);
+    if (image_) copy->setFrame(*image_, content_, frame_exposure_);  // a sampler of its own
+    copy->hosts_.assign(hosts_.begin(), hosts_.begin() + size_);
+    copy->bearings_.assign(bearings_.begin(), bearings_.begin() + size_);
+    copy->size_ = size_;
+    copy->pair_ = pair_;
+    return copy;
+  }
   int size() const override { return static_cast<int>(size_); }
   void setPoint(const double* pose, const double* affine) override {
     pair_ = makePhotometricPair(host_pose_, pose, host_affine_, affine, host_exposure_,
@@ -96,7 +108,9 @@ class InitializerLevelPatches final : public InitializerLevelPatchesBase {
 
  private:
   M<double> camera_;
-  std::optional<ImageSampler> sampler_;
+  std::optional<ImageSampler> sampler_;  // of *image_ and *content_ (setFrame)
+  const ImageF* image_ = nullptr;
+  const Mask* content_ = nullptr;
   double host_exposure_, frame_exposure_ = 1.0;
   const double* host_pose_;
   const double* host_affine_;

@@ -41,6 +41,7 @@
 // Deterministic, single-threaded; points summed in order.
 
 #include <Eigen/Core>
+#include <memory>
 #include <omnidso/backend/trust_region.hpp>
 #include <vector>
 
@@ -58,6 +59,9 @@ class InitializerPatches {
   using FrameJacobian = Eigen::Matrix<double, kPatchSize, 8, Eigen::RowMajor>;  // ∂r/∂[δ a b]
 
   virtual ~InitializerPatches() = default;
+  // An independent copy (the same patches, its own frame state): one per thread, so that
+  // several states can be evaluated at once.
+  virtual std::unique_ptr<InitializerPatches> clone() const = 0;
   virtual int size() const = 0;
   // The frame state evaluate() works at: pose [qx qy qz qw tx ty tz], affine [a b].
   virtual void setPoint(const double* pose, const double* affine) = 0;
