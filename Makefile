@@ -52,7 +52,7 @@ FUZZ_DIR ?= build-fuzz
 # TSan build (the renderer's threads too), one sample per pixel. The 150-frame ctest form
 # (RealTimeMode, label `slow`) renders 4 samples per pixel under TSan before the odometry
 # starts (≈ 1.8 s of CPU a frame): it did not finish in 36 min on the shared machine.
-TSAN_TESTS ?= MappingWorker|TaskPool|WindowSolverDeterminism
+TSAN_TESTS ?= MappingWorker|TaskPool|WindowSolverDeterminism|OnComputeThreads
 TSAN_FRAMES ?= 80
 
 # Eigen turns its "glibc malloc is 16-byte aligned" assumption off under __SANITIZE_ADDRESS__
