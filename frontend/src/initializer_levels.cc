@@ -242,15 +242,16 @@ std::vector<double> Initializer::Impl::candidateCosts(int level, const ImagePyra
     std::vector<double> d;
     for (size_t i : nl.points) d.push_back(inverse_distances[i]);
     // One contiguous chunk of candidates per compute thread, each with its own copy of the
-    // patches (setPoint keeps the frame state in them): every cost is the same evaluation,
-    // in the same order of operations, whatever the thread count.
+    // patches (setPoint keeps the frame state in them), copied before any chunk runs: every
+    // cost is the same evaluation, in the same order of operations, whatever the thread count.
     if (!nl.points.empty()) costs.resize(candidates.size());
     const int n = static_cast<int>(costs.size());
     const int chunks = std::min(n, pool ? pool->numThreads() : 1);
+    std::vector<std::unique_ptr<InitializerPatches>> copies;
+    for (int c = 1; c < chunks; ++c) copies.push_back(nl.problem.patches->clone());
     runTasks(pool, chunks, [&](int c) {
-      std::unique_ptr<InitializerPatches> copy;
       InitializerLevelProblem problem = nl.problem;
-      if (c > 0) problem.patches = (copy = nl.problem.patches->clone()).get();
+      if (c > 0) problem.patches = copies[static_cast<size_t>(c - 1)].get();
       std::array<double, 7> candidate_pose;
       for (int k = n * c / chunks; k < n * (c + 1) / chunks; ++k) {
         candidates[k].toParameters(candidate_pose.data());
