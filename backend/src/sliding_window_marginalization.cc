@@ -97,7 +97,8 @@ void SlidingWindow::marginalizeKeyframe(int id) {
   }
   for (int pid : emptied) dropPoint(pid);
 
-  // 3. The keyframe's own blocks.
+  // 3. The keyframe's own blocks. No photometric residual touches them any more (1 and 2),
+  // deferred or not: the marginaliser finds the priors on them in the problem.
   if (marginalizer_.marginalize(*problem_, {kf.pose.data(), kf.affine.data()})) has_prior_ = true;
   if (id == anchor_keyframe_id_) anchor_keyframe_id_ = -1;
   keyframes_.erase(std::find_if(keyframes_.begin(), keyframes_.end(),
