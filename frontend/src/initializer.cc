@@ -24,7 +24,8 @@ void Initializer::Impl::searchRotationStart(int level, const ImagePyramid& frame
           xi << 0, 0, 0, x * step, y * step, z * step;
           candidates.push_back(centre * SE3d::exp(xi));  // turned in the frame
         }
-  const std::vector<double> costs = candidateCosts(level, frame, exposure, snapped, candidates);
+  const std::vector<double> costs =
+      candidateCosts(level, frame, exposure, snapped, candidates, /*least_only=*/true);
   size_t best = 0;
   for (size_t k = 1; k < costs.size(); ++k)
     if (costs[k] < costs[best]) best = k;
@@ -101,11 +102,12 @@ InitializerLevelSolve Initializer::solveLevel(const ImagePyramid& frame, double 
 std::vector<double> Initializer::rotationSearchCosts(const ImagePyramid& frame, double exposure,
                                                      int level, bool snapped,
                                                      const InitializerState& state,
-                                                     const std::vector<SE3d>& candidates) {
+                                                     const std::vector<SE3d>& candidates,
+                                                     bool least_only) {
   if (candidates.empty()) return {};
   InitializerState copy = state;
   return impl_->withState(&copy, [&] {
-    return impl_->candidateCosts(level, frame, exposure, snapped, candidates);
+    return impl_->candidateCosts(level, frame, exposure, snapped, candidates, least_only);
   });
 }
 

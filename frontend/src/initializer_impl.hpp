@@ -108,9 +108,12 @@ struct Initializer::Impl {
 
   // The cost of the level's problem — the points valid at candidates[0] — at every candidate
   // pose (+∞ where it cannot be evaluated); empty when no point is valid. The pose is left
-  // at candidates[0].
+  // at candidates[0]. least_only: a candidate's evaluation stops (+∞) once its sum exceeds
+  // the least cost its thread has seen (initializerLevelCost's bound), which never stops the
+  // first of the least: the search's choice is the same, the other costs are not.
   std::vector<double> candidateCosts(int level, const ImagePyramid& frame, double exposure,
-                                     bool snapped, const std::vector<SE3d>& candidates);
+                                     bool snapped, const std::vector<SE3d>& candidates,
+                                     bool least_only = false);
 
   // The start of the coarsest level (header comment): the best, by cost, of every rotation
   // on a grid around each of `centres` (the constant-velocity prediction, then the last

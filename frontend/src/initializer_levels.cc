@@ -234,7 +234,8 @@ double Initializer::Impl::regularizerMean(bool snapped) const {
 
 std::vector<double> Initializer::Impl::candidateCosts(int level, const ImagePyramid& frame,
                                                       double exposure, bool snapped,
-                                                      const std::vector<SE3d>& candidates) {
+                                                      const std::vector<SE3d>& candidates,
+                                                      bool least_only) {
   candidates.front().toParameters(pose.data());
   std::vector<double> costs;
   if (options.native_solver) {
@@ -253,9 +254,12 @@ std::vector<double> Initializer::Impl::candidateCosts(int level, const ImagePyra
       InitializerLevelProblem problem = nl.problem;
       if (c > 0) problem.patches = copies[static_cast<size_t>(c - 1)].get();
       std::array<double, 7> candidate_pose;
+      double least = std::numeric_limits<double>::infinity();
       for (int k = n * c / chunks; k < n * (c + 1) / chunks; ++k) {
         candidates[k].toParameters(candidate_pose.data());
-        costs[k] = initializerLevelCost(problem, candidate_pose.data(), affine.data(), d);
+        costs[k] = initializerLevelCost(problem, candidate_pose.data(), affine.data(), d,
+                                        least_only ? least : std::numeric_limits<double>::infinity());
+        least = std::min(least, costs[k]);
       }
     });
   } else {

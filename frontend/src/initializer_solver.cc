@@ -54,9 +54,11 @@ struct Equations {
 // E at x and, when asked for, the normal equations there and every patch's raw energy.
 // Summed in Ceres's program order for DENSE_SCHUR (its residual blocks grouped by point,
 // each point's regulariser before its patch, then the translation term and the prior).
-// False where a residual or Jacobian is not finite (Ceres's evaluation fails).
+// False where a residual or Jacobian is not finite (Ceres's evaluation fails). Without the
+// equations, E = +∞ as soon as the sum of its terms (each ≥ 0) exceeds `bound`.
 bool evaluate(const InitializerLevelProblem& p, const State& x, Equations* eq, double* cost,
-              std::vector<double>* energies) {
+              std::vector<double>* energies,
+              double bound = std::numeric_limits<double>::infinity()) {
   const int n = p.patches->size();
   p.patches->setPoint(x.frame.data(), x.frame.data() + 7);
   if (eq) eq->reset(n);
@@ -85,6 +87,10 @@ bool evaluate(const InitializerLevelProblem& p, const State& x, Equations* eq, d
     if (energies) (*energies)[static_cast<size_t>(i)] = energy;
     const RobustCorrection correction(p.loss, energy);
     sum += correction.cost();
+    if (!eq && sum > bound) {
+      *cost = std::numeric_limits<double>::infinity();
+      return true;
+    }
     if (!eq) continue;
     correction.correctJacobian(r, J_f);
     correction.correctJacobian(r, J_d);
@@ -262,14 +268,16 @@ InitializerTermination initializerTermination(LevenbergMarquardtTermination t) {
 }  // namespace
 
 double initializerLevelCost(const InitializerLevelProblem& problem, const double* pose,
-                            const double* affine, const std::vector<double>& inverse_distances) {
+                            const double* affine, const std::vector<double>& inverse_distances,
+                            double bound) {
   State x;
   std::copy_n(pose, 7, x.frame.begin());
   std::copy_n(affine, 2, x.frame.begin() + 7);
   x.d = inverse_distances;
   double cost = 0.0;
-  return evaluate(problem, x, nullptr, &cost, nullptr) ? cost
-                                                       : std::numeric_limits<double>::infinity();
+  return evaluate(problem, x, nullptr, &cost, nullptr, bound)
+             ? cost
+             : std::numeric_limits<double>::infinity();
 }
 
 InitializerSolverSummary solveInitializerLevel(const InitializerLevelProblem& problem,

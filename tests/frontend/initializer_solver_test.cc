@@ -216,6 +216,52 @@ TEST(InitializerSolverTest, RotationSearchCostsAreBitIdenticalOnComputeThreads) 
   }
 }
 
+// The search's own costs (least_only: a candidate's sum cut short once it exceeds the least
+// cost its thread has seen) on 1, 2 and 3 threads: the first of the least is the exact costs'
+// first of the least, every cost not cut is the exact one bit for bit, every cut one belongs
+// to a candidate that costs more than the least — and the bound cuts some.
+TEST(InitializerSolverTest, RotationSearchCutsOnlyCandidatesAboveTheLeastOnComputeThreads) {
+  const RenderedPair pair("pinhole", 90.0, {0.02, 0.0, 0.0}, {7.3, 7.3, 0.0});
+  const ImagePyramid frame = pair.frame();
+  std::vector<SE3d> candidates;
+  const SE3d centre = test::moveInCamera(SE3d(), {0.01, 0.0, 0.0}, {6.0, 6.0, 0.0});
+  for (int x = -2; x <= 2; ++x)
+    for (int y = -2; y <= 2; ++y)
+      for (int z = -2; z <= 2; ++z)
+        candidates.push_back(test::moveInCamera(centre, Eigen::Vector3d::Zero(),
+                                                Eigen::Vector3d(x, y, z) * 1.2));
+  const auto least = [](const std::vector<double>& c) {
+    return std::min_element(c.begin(), c.end()) - c.begin();
+  };
+  for (const int threads : {1, 2, 3}) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    const auto init = pair.initializer(true);
+    std::unique_ptr<TaskPool> pool;
+    if (threads > 1) pool = std::make_unique<TaskPool>(threads);
+    init->setTaskPool(pool.get());
+    InitializerState state = init->state();
+    for (size_t i = 0; i < state.inverse_distances.size(); ++i)
+      state.inverse_distances[i] = 1.0 + 0.3 * std::sin(0.7 * i);
+    const std::vector<double> exact =
+        init->rotationSearchCosts(frame, 1.0, 3, true, state, candidates);
+    const std::vector<double> cut =
+        init->rotationSearchCosts(frame, 1.0, 3, true, state, candidates, true);
+    ASSERT_EQ(cut.size(), exact.size());
+    const auto best = least(exact);
+    EXPECT_EQ(least(cut), best);
+    int num_cut = 0;
+    for (size_t k = 0; k < cut.size(); ++k) {
+      if (std::isinf(cut[k]) && std::isfinite(exact[k])) {
+        ++num_cut;
+        EXPECT_GT(exact[k], exact[static_cast<size_t>(best)]) << "candidate " << k;
+      } else {
+        EXPECT_EQ(cut[k], exact[k]) << "candidate " << k;
+      }
+    }
+    EXPECT_GT(num_cut, static_cast<int>(candidates.size()) / 4);
+  }
+}
+
 // Feeds frames until done; the result with both solvers.
 InitializationResult initialise(const RenderedPair& pair, bool native, int levels,
                                 const std::function<SE3d(const SE3d&, int)>& path, int* frames) {

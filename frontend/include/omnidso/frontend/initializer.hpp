@@ -107,13 +107,16 @@ class Initializer {
   // The steps of addFrame, on a given state instead of the initialiser's own (which they
   // leave unchanged): the current state; one level's solve (before or after the snap);
   // and the rotation search's cost at each candidate pose (the points selected at
-  // candidates[0]), the search taking the first of the least.
+  // candidates[0]), the search taking the first of the least — with least_only, as the
+  // search computes them: a candidate's sum is cut short (+∞) once it exceeds the least
+  // cost seen so far, which never cuts the first of the least.
   InitializerState state() const;
   InitializerLevelSolve solveLevel(const ImagePyramid& frame, double exposure, int level,
                                    bool snapped, InitializerState* state);
   std::vector<double> rotationSearchCosts(const ImagePyramid& frame, double exposure, int level,
                                           bool snapped, const InitializerState& state,
-                                          const std::vector<SE3d>& candidates);
+                                          const std::vector<SE3d>& candidates,
+                                          bool least_only = false);
 
  private:
   struct Impl;

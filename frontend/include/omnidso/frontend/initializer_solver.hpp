@@ -41,6 +41,7 @@
 // Deterministic, single-threaded; points summed in order.
 
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <omnidso/backend/trust_region.hpp>
 #include <vector>
@@ -110,8 +111,11 @@ InitializerSolverSummary solveInitializerLevel(const InitializerLevelProblem& pr
                                                std::vector<double>* inverse_distances);
 
 // E at the given values (Problem::Evaluate's cost, to rounding); +∞ where a residual is
-// not finite (where Problem::Evaluate fails).
+// not finite (where Problem::Evaluate fails). With a finite `bound`, +∞ as soon as the sum
+// exceeds it: every term is ≥ 0, so the partial sums only grow, and a cost ≤ bound is
+// returned exactly as without one (a search for the least cost loses nothing by it).
 double initializerLevelCost(const InitializerLevelProblem& problem, const double* pose,
-                            const double* affine, const std::vector<double>& inverse_distances);
+                            const double* affine, const std::vector<double>& inverse_distances,
+                            double bound = std::numeric_limits<double>::infinity());
 
 }  // namespace omnidso
