@@ -139,6 +139,18 @@ TEST(InitializerSolverTest, LevelSolveAgreesWithCeres) {
             << ", inverse distance " << max.inverse_distance << " (relative)\n";
 }
 
+// A grid of 5³ rotations around a pose, as the search makes them (initializer.cc).
+std::vector<SE3d> rotationGrid() {
+  std::vector<SE3d> candidates;
+  const SE3d centre = test::moveInCamera(SE3d(), {0.01, 0.0, 0.0}, {6.0, 6.0, 0.0});
+  for (int x = -2; x <= 2; ++x)
+    for (int y = -2; y <= 2; ++y)
+      for (int z = -2; z <= 2; ++z)
+        candidates.push_back(test::moveInCamera(centre, Eigen::Vector3d::Zero(),
+                                                Eigen::Vector3d(x, y, z) * 1.2));
+  return candidates;
+}
+
 // The rotation search's costs (initializer.cc): every node of a grid of rotations around a
 // pose, at the coarsest level, before and after the snap — the same cost to rounding
 // (Ceres sums its residual blocks in another order) and the same least node.
@@ -147,13 +159,7 @@ TEST(InitializerSolverTest, RotationSearchCostsAgreeWithCeres) {
   const auto ceres_init = pair.initializer(false);
   const auto native_init = pair.initializer(true);
   const ImagePyramid frame = pair.frame();
-  std::vector<SE3d> candidates;
-  const SE3d centre = test::moveInCamera(SE3d(), {0.01, 0.0, 0.0}, {6.0, 6.0, 0.0});
-  for (int x = -2; x <= 2; ++x)
-    for (int y = -2; y <= 2; ++y)
-      for (int z = -2; z <= 2; ++z)
-        candidates.push_back(test::moveInCamera(centre, Eigen::Vector3d::Zero(),
-                                                Eigen::Vector3d(x, y, z) * 1.2));
+  const std::vector<SE3d> candidates = rotationGrid();
   for (bool snapped : {false, true}) {
     InitializerState state = native_init->state();
     for (size_t i = 0; i < state.inverse_distances.size(); ++i)
@@ -181,38 +187,37 @@ TEST(InitializerSolverTest, RotationSearchCostsAgreeWithCeres) {
   }
 }
 
-// The rotation search's costs on compute threads (Initializer::setTaskPool): one task per
-// candidate, each the same evaluation as on one thread, so the costs are the same bit for bit
-// for 1, 2 and 3 threads.
+// The rotation search's costs at level 3 after the snap, on `threads` compute threads
+// (Initializer::setTaskPool), the inverse distances varied so that the costs differ.
+std::vector<double> searchCostsOnThreads(const RenderedPair& pair, const ImagePyramid& frame,
+                                         const std::vector<SE3d>& candidates, int threads,
+                                         bool least_only) {
+  const auto init = pair.initializer(true);
+  std::unique_ptr<TaskPool> pool;
+  if (threads > 1) pool = std::make_unique<TaskPool>(threads);
+  init->setTaskPool(pool.get());
+  InitializerState state = init->state();
+  for (size_t i = 0; i < state.inverse_distances.size(); ++i)
+    state.inverse_distances[i] = 1.0 + 0.3 * std::sin(0.7 * i);
+  return init->rotationSearchCosts(frame, 1.0, 3, true, state, candidates, least_only);
+}
+
+// On compute threads the candidates go in one chunk per thread, each cost the same
+// evaluation as on one thread: the costs are the same bit for bit for 1, 2 and 3 threads.
 TEST(InitializerSolverTest, RotationSearchCostsAreBitIdenticalOnComputeThreads) {
   const RenderedPair pair("pinhole", 90.0, {0.02, 0.0, 0.0}, {7.3, 7.3, 0.0});
   const ImagePyramid frame = pair.frame();
-  std::vector<SE3d> candidates;
-  for (int x = -2; x <= 2; ++x)
-    for (int y = -2; y <= 2; ++y)
-      candidates.push_back(test::moveInCamera(SE3d(), {0.01, 0.0, 0.0},
-                                              Eigen::Vector3d(x, y, 0.5 * x) * 1.2));
-  std::vector<double> one_thread;
-  for (const int threads : {1, 2, 3}) {
+  const std::vector<SE3d> candidates = rotationGrid();
+  const std::vector<double> one_thread = searchCostsOnThreads(pair, frame, candidates, 1, false);
+  ASSERT_EQ(one_thread.size(), candidates.size());
+  // The costs differ from candidate to candidate: a mix-up of tasks would show.
+  EXPECT_GT(*std::max_element(one_thread.begin(), one_thread.end()),
+            1.2 * *std::min_element(one_thread.begin(), one_thread.end()));
+  for (const int threads : {2, 3}) {
     SCOPED_TRACE(std::to_string(threads) + " threads");
-    const auto init = pair.initializer(true);
-    std::unique_ptr<TaskPool> pool;
-    if (threads > 1) pool = std::make_unique<TaskPool>(threads);
-    init->setTaskPool(pool.get());
-    InitializerState state = init->state();
-    for (size_t i = 0; i < state.inverse_distances.size(); ++i)
-      state.inverse_distances[i] = 1.0 + 0.3 * std::sin(0.7 * i);
-    const std::vector<double> costs =
-        init->rotationSearchCosts(frame, 1.0, 3, true, state, candidates);
+    const std::vector<double> costs = searchCostsOnThreads(pair, frame, candidates, threads, false);
     ASSERT_EQ(costs.size(), candidates.size());
-    if (threads == 1) {
-      one_thread = costs;
-      // The costs differ from candidate to candidate: a mix-up of tasks would show.
-      EXPECT_GT(*std::max_element(costs.begin(), costs.end()),
-                1.2 * *std::min_element(costs.begin(), costs.end()));
-    } else {
-      for (size_t k = 0; k < costs.size(); ++k) EXPECT_EQ(costs[k], one_thread[k]) << "candidate " << k;
-    }
+    for (size_t k = 0; k < costs.size(); ++k) EXPECT_EQ(costs[k], one_thread[k]) << "candidate " << k;
   }
 }
 
@@ -223,31 +228,17 @@ TEST(InitializerSolverTest, RotationSearchCostsAreBitIdenticalOnComputeThreads) 
 TEST(InitializerSolverTest, RotationSearchCutsOnlyCandidatesAboveTheLeastOnComputeThreads) {
   const RenderedPair pair("pinhole", 90.0, {0.02, 0.0, 0.0}, {7.3, 7.3, 0.0});
   const ImagePyramid frame = pair.frame();
-  std::vector<SE3d> candidates;
-  const SE3d centre = test::moveInCamera(SE3d(), {0.01, 0.0, 0.0}, {6.0, 6.0, 0.0});
-  for (int x = -2; x <= 2; ++x)
-    for (int y = -2; y <= 2; ++y)
-      for (int z = -2; z <= 2; ++z)
-        candidates.push_back(test::moveInCamera(centre, Eigen::Vector3d::Zero(),
-                                                Eigen::Vector3d(x, y, z) * 1.2));
+  const std::vector<SE3d> candidates = rotationGrid();
   const auto least = [](const std::vector<double>& c) {
     return std::min_element(c.begin(), c.end()) - c.begin();
   };
+  const std::vector<double> exact = searchCostsOnThreads(pair, frame, candidates, 1, false);
+  ASSERT_EQ(exact.size(), candidates.size());
+  const auto best = least(exact);
   for (const int threads : {1, 2, 3}) {
     SCOPED_TRACE(std::to_string(threads) + " threads");
-    const auto init = pair.initializer(true);
-    std::unique_ptr<TaskPool> pool;
-    if (threads > 1) pool = std::make_unique<TaskPool>(threads);
-    init->setTaskPool(pool.get());
-    InitializerState state = init->state();
-    for (size_t i = 0; i < state.inverse_distances.size(); ++i)
-      state.inverse_distances[i] = 1.0 + 0.3 * std::sin(0.7 * i);
-    const std::vector<double> exact =
-        init->rotationSearchCosts(frame, 1.0, 3, true, state, candidates);
-    const std::vector<double> cut =
-        init->rotationSearchCosts(frame, 1.0, 3, true, state, candidates, true);
+    const std::vector<double> cut = searchCostsOnThreads(pair, frame, candidates, threads, true);
     ASSERT_EQ(cut.size(), exact.size());
-    const auto best = least(exact);
     EXPECT_EQ(least(cut), best);
     int num_cut = 0;
     for (size_t k = 0; k < cut.size(); ++k) {
