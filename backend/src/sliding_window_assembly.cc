@@ -73,8 +73,7 @@ bool SlidingWindow::addResidual(WindowPoint& point, WindowKeyframe& target, int 
   if (!obs) return false;
   std::array<double*, 6> blocks = residualParameters(point, target);
   if (factory_->status(*obs, blocks.data()) != PhotometricStatus::kValid) return false;
-  point.residuals[target.id] =
-      defersResidualBlocks(level) ? nullptr : addResidualBlock(point, target, *obs);
+  point.residuals[target.id] = defersResidualBlocks(level) ? nullptr : addResidualBlock(blocks, *obs);
   return true;
 }
 
@@ -91,9 +90,8 @@ OutOfBoundsPenalty* SlidingWindow::makeResidualCost(const WindowObservation& obs
   return new OutOfBoundsPenalty(cost, options_.outlier_energy_per_pixel * kWindowPatternSize);
 }
 
-ceres::ResidualBlockId SlidingWindow::addResidualBlock(WindowPoint& point, WindowKeyframe& target,
+ceres::ResidualBlockId SlidingWindow::addResidualBlock(std::array<double*, 6>& blocks,
                                                        const WindowObservation& obs) {
-  std::array<double*, 6> blocks = residualParameters(point, target);
   return problem_->AddResidualBlock(makeResidualCost(obs), loss_.get(), blocks.data(),
                                     static_cast<int>(blocks.size()));
 }
@@ -106,8 +104,9 @@ void SlidingWindow::materializeResidualBlocks(WindowPoint& point) {
   for (auto& [target_id, id] : point.residuals) {
     if (id) continue;
     WindowKeyframe& target = keyframeRef(target_id);
+    std::array<double*, 6> blocks = residualParameters(point, target);
     // Level 0 (only level-0 blocks are deferred), whose observation always exists.
-    id = addResidualBlock(point, target, *observation(point, target, 0));
+    id = addResidualBlock(blocks, *observation(point, target, 0));
   }
 }
 

@@ -87,11 +87,13 @@ bool evaluate(const InitializerLevelProblem& p, const State& x, Equations* eq, d
     if (energies) (*energies)[static_cast<size_t>(i)] = energy;
     const RobustCorrection correction(p.loss, energy);
     sum += correction.cost();
-    if (!eq && sum > bound) {
-      *cost = std::numeric_limits<double>::infinity();
-      return true;
+    if (!eq) {
+      if (sum > bound) {  // the partial sums only grow: E > bound
+        *cost = std::numeric_limits<double>::infinity();
+        return true;
+      }
+      continue;
     }
-    if (!eq) continue;
     correction.correctJacobian(r, J_f);
     correction.correctJacobian(r, J_d);
     correction.correctResiduals(r);

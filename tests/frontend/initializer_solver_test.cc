@@ -222,7 +222,7 @@ TEST(InitializerSolverTest, RotationSearchCostsAreBitIdenticalOnComputeThreads) 
 }
 
 // The search's own costs (least_only: a candidate's sum cut short once it exceeds the least
-// cost its thread has seen) on 1, 2 and 3 threads: the first of the least is the exact costs'
+// cost its chunk has seen) on 1, 2 and 3 threads: the first of the least is the exact costs'
 // first of the least, every cost not cut is the exact one bit for bit, every cut one belongs
 // to a candidate that costs more than the least — and the bound cuts some.
 TEST(InitializerSolverTest, RotationSearchCutsOnlyCandidatesAboveTheLeastOnComputeThreads) {

@@ -161,7 +161,8 @@ void registerRunCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--compute-threads", args->compute_threads,
                   "threads for the data-parallel steps (epipolar search, the window's "
-                  "evaluation, candidate refinement); the trajectory is the same bit for bit "
+                  "evaluation, candidate refinement and selection, the initialiser's rotation "
+                  "search); the trajectory is the same bit for bit "
                   "for any count. 0: the hardware threads (at most 8) in the deterministic mode, 1 in the "
                   "real-time mode")
       ->check(CLI::Range(0, 256))

@@ -268,7 +268,8 @@ class SlidingWindow {
   // target affine, intrinsics.
   std::array<double*, 6> residualParameters(WindowPoint& point, WindowKeyframe& target);
   OutOfBoundsPenalty* makeResidualCost(const WindowObservation& obs);
-  ceres::ResidualBlockId addResidualBlock(WindowPoint& point, WindowKeyframe& target,
+  // Adds the block of the residual over `blocks` (residualParameters) to the problem.
+  ceres::ResidualBlockId addResidualBlock(std::array<double*, 6>& blocks,
                                           const WindowObservation& obs);
   // Whether the native solver solves level 0 of this window (solve()).
   bool nativeSolverApplies() const;
