@@ -303,38 +303,55 @@ ceres::ResidualBlockId Marginalizer::marginalize(ceres::Problem& problem,
   const Eigen::VectorXd g_star = normal.g.tail(k) - H_km_Hmm_inv * normal.g.head(m);
 
   removeFromProblem();
-  ceres::ResidualBlockId prior_id = nullptr;
-  if (k > 0) {
-    // 4. Square-root information of H*.
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H_star);
-    const Eigen::VectorXd& lambda = eig.eigenvalues();
-    const double cutoff = options_.eigenvalue_threshold * std::max(lambda.maxCoeff(), 0.0);
-    std::vector<int> kept_directions;
-    for (int i = 0; i < lambda.size(); ++i)
-      if (lambda[i] > cutoff && lambda[i] > 0) kept_directions.push_back(i);
-    const int rank = static_cast<int>(kept_directions.size());
-    local_stats.prior_rank = rank;
-    if (rank > 0) {
-      Eigen::MatrixXd S(rank, k);
-      Eigen::VectorXd s(rank);
-      for (int row = 0; row < rank; ++row) {
-        const int i = kept_directions[row];
-        const Eigen::VectorXd v = eig.eigenvectors().col(i);
-        S.row(row) = std::sqrt(lambda[i]) * v.transpose();
-        s[row] = v.dot(g_star) / std::sqrt(lambda[i]);
-      }
-      std::vector<PriorBlock> kept_prior_blocks(prior_blocks.begin() + num_removed_blocks,
-                                                prior_blocks.end());
-      auto* prior = new MarginalizationPrior(std::move(kept_prior_blocks), std::move(S),
-                                             std::move(s));
-      prior_id = problem.AddResidualBlock(prior, nullptr, kept);
-      local_stats.num_prior_blocks = static_cast<int>(kept.size());
-      // 5 (second half). First-estimate points for the blocks the prior now touches.
-      for (size_t i = num_removed_blocks; i < ordered.size(); ++i)
-        linearization_points_.emplace(ordered[i], first_estimate[i]);
-    }
-  }
+  const ceres::ResidualBlockId prior_id = addPrior(problem, kept, H_star, g_star, &local_stats);
   if (stats) *stats = local_stats;
+  return prior_id;
+}
+
+Eigen::VectorXd Marginalizer::firstEstimate(const ceres::Problem& problem,
+                                            const double* block) const {
+  const Eigen::VectorXd* lin = linearizationPoint(block);
+  return lin ? *lin
+             : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
+                   block, problem.ParameterBlockSize(block)));
+}
+
+ceres::ResidualBlockId Marginalizer::addPrior(ceres::Problem& problem,
+                                              const std::vector<double*>& kept,
+                                              const Eigen::MatrixXd& H_star,
+                                              const Eigen::VectorXd& g_star,
+                                              MarginalizationStats* stats) {
+  const int k = static_cast<int>(H_star.rows());
+  if (k == 0) return nullptr;
+  // 4. Square-root information of H*.
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H_star);
+  const Eigen::VectorXd& lambda = eig.eigenvalues();
+  const double cutoff = options_.eigenvalue_threshold * std::max(lambda.maxCoeff(), 0.0);
+  std::vector<int> kept_directions;
+  for (int i = 0; i < lambda.size(); ++i)
+    if (lambda[i] > cutoff && lambda[i] > 0) kept_directions.push_back(i);
+  const int rank = static_cast<int>(kept_directions.size());
+  if (stats) stats->prior_rank = rank;
+  if (rank == 0) return nullptr;
+  Eigen::MatrixXd S(rank, k);
+  Eigen::VectorXd s(rank);
+  for (int row = 0; row < rank; ++row) {
+    const int i = kept_directions[row];
+    const Eigen::VectorXd v = eig.eigenvectors().col(i);
+    S.row(row) = std::sqrt(lambda[i]) * v.transpose();
+    s[row] = v.dot(g_star) / std::sqrt(lambda[i]);
+  }
+  std::vector<PriorBlock> prior_blocks(kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) {
+    prior_blocks[i].ambient_size = problem.ParameterBlockSize(kept[i]);
+    prior_blocks[i].manifold = problem.GetManifold(kept[i]);
+    prior_blocks[i].linearization_point = firstEstimate(problem, kept[i]);
+  }
+  auto* prior = new MarginalizationPrior(std::move(prior_blocks), std::move(S), std::move(s));
+  const ceres::ResidualBlockId prior_id = problem.AddResidualBlock(prior, nullptr, kept);
+  if (stats) stats->num_prior_blocks = static_cast<int>(kept.size());
+  // 5 (second half). First-estimate points for the blocks the prior now touches.
+  for (double* block : kept) linearization_points_.emplace(block, firstEstimate(problem, block));
   return prior_id;
 }
 

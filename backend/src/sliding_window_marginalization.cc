@@ -5,6 +5,7 @@
 // finally its own pose and affine blocks are marginalised (marginalizer.hpp).
 #include <algorithm>
 #include <omnidso/backend/sliding_window.hpp>
+#include <omnidso/backend/window_point_marginalization.hpp>
 
 namespace omnidso {
 
@@ -51,6 +52,46 @@ std::vector<int> SlidingWindow::keyframesToMarginalize(
   return selectKeyframesToMarginalize(keyframeSummaries(), o);
 }
 
+bool SlidingWindow::marginalizePointsNatively(const std::vector<int>& ids) {
+  if (!defersResidualBlocks(0)) return false;
+  std::vector<const WindowPoint*> points;
+  std::vector<ceres::ResidualBlockId> blocks;
+  for (int pid : ids) {
+    const WindowPoint& point = pointRef(pid);
+    for (const auto& [target, block] : point.residuals)
+      if (block) return false;
+    problem_->GetResidualBlocksForParameterBlock(&point.inverse_distance, &blocks);
+    if (!blocks.empty()) return false;
+    points.push_back(&point);
+  }
+  const WindowProblem current = nativePhotometricProblem(points);
+  // The same problem with the frames' and intrinsics' values at their first estimate x̄
+  // (constant blocks are known: at x, as Marginalizer evaluates them).
+  WindowProblem first_estimate = current;
+  std::vector<Eigen::VectorXd> x_bar;
+  x_bar.reserve(2 * current.frames.size() + 1);  // no reallocation: the pointers stay valid
+  auto atFirstEstimate = [&](double* block, bool constant) {
+    if (constant) return block;
+    x_bar.push_back(marginalizer_.firstEstimate(*problem_, block));
+    return x_bar.back().data();
+  };
+  for (WindowFrame& frame : first_estimate.frames) {
+    frame.pose = atFirstEstimate(frame.pose, frame.pose_constant);
+    frame.affine = atFirstEstimate(frame.affine, frame.affine_constant);
+  }
+  first_estimate.intrinsics =
+      atFirstEstimate(first_estimate.intrinsics, first_estimate.intrinsics_constant);
+
+  const PointSchurComplement schur = marginalizePoints(current, first_estimate);
+  if (marginalizer_.addPrior(*problem_, schur.blocks, schur.information, schur.gradient))
+    has_prior_ = true;
+  for (const WindowPoint* point : points) {
+    problem_->RemoveParameterBlock(&point->inverse_distance);
+    marginalizer_.forget(&point->inverse_distance);
+  }
+  return true;
+}
+
 void SlidingWindow::marginalizeKeyframe(int id) {
   WindowKeyframe& kf = keyframeRef(id);
   std::vector<int> newest_two;
@@ -73,10 +114,12 @@ void SlidingWindow::marginalizeKeyframe(int id) {
       recordMarginalized(*point);
     }
   }
-  // The marginaliser linearises through Ceres: these points' deferred blocks enter the problem.
-  for (int pid : marginalized_ids) materializeResidualBlocks(pointRef(pid));
-  if (!to_marginalize.empty() && marginalizer_.marginalize(*problem_, to_marginalize))
-    has_prior_ = true;
+  // Natively where the points' blocks are deferred; else Ceres's linearisation, for which
+  // their deferred blocks (if any) enter the problem.
+  if (!to_marginalize.empty() && !marginalizePointsNatively(marginalized_ids)) {
+    for (int pid : marginalized_ids) materializeResidualBlocks(pointRef(pid));
+    if (marginalizer_.marginalize(*problem_, to_marginalize)) has_prior_ = true;
+  }
   for (int pid : marginalized_ids) {
     if (pid == scale_anchor_point_id_) {
       scale_fixed_by_prior_ = !options_.keep_scale_anchor;

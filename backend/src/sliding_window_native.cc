@@ -15,7 +15,7 @@ ceres::Problem& SlidingWindow::mutableProblem() {
   return *problem_;
 }
 
-std::optional<WindowProblem> SlidingWindow::nativeProblem() {
+WindowProblem SlidingWindow::nativePhotometricProblem(const std::vector<const WindowPoint*>& points) {
   WindowProblem native;
   std::map<int, int> frame_index;  // keyframe id → index, oldest first
   for (const auto& kf : keyframes_) {
@@ -30,7 +30,7 @@ std::optional<WindowProblem> SlidingWindow::nativeProblem() {
     frame_index[kf->id] = static_cast<int>(native.frames.size());
     native.frames.push_back(f);
   }
-  for (const auto& [pid, point] : points_) {
+  for (const WindowPoint* point : points) {
     WindowPointBlock b;
     b.inverse_distance = &point->inverse_distance;
     b.constant = problem_->IsParameterBlockConstant(b.inverse_distance);
@@ -53,7 +53,13 @@ std::optional<WindowProblem> SlidingWindow::nativeProblem() {
   native.photometric = window_terms_;
   native.id = ++num_native_problems_;
   native.pool = pool_;
+  return native;
+}
 
+std::optional<WindowProblem> SlidingWindow::nativeProblem() {
+  std::vector<const WindowPoint*> points;
+  for (const auto& [pid, point] : points_) points.push_back(point.get());
+  WindowProblem native = nativePhotometricProblem(points);
   // Priors: every residual block that is not a photometric one (those are all
   // OutOfBoundsPenalty, addResidual), over keyframe blocks and the intrinsics.
   std::vector<ceres::ResidualBlockId> blocks;

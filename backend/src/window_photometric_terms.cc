@@ -39,10 +39,26 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   };
   using Adjoint = Eigen::Matrix<double, 6, 6>;
   using PairToFrames = Eigen::Matrix<double, kPairIntrinsics, 2 * kFrameTangentSize>;
+  using PatchResiduals = Eigen::Matrix<double, kN, 1>;
+  // Where the r̃ of the Gram matrices' last column comes from: each residual's own
+  // evaluation, or the one a previous pass kept (linearizeAt).
+  enum class ResidualSource { kOwn, kKeep, kKept };
 
  public:
   double evaluate(const WindowProblem& problem, WindowNormalEquations* equations,
                   std::vector<double>* energies) override {
+    return evaluatePass(problem, equations, energies, ResidualSource::kOwn);
+  }
+
+  void linearizeAt(const WindowProblem& current, const WindowProblem& first_estimate,
+                   WindowNormalEquations* equations) override {
+    evaluatePass(current, nullptr, nullptr, ResidualSource::kKeep);
+    evaluatePass(first_estimate, equations, nullptr, ResidualSource::kKept);
+  }
+
+ private:
+  double evaluatePass(const WindowProblem& problem, WindowNormalEquations* equations,
+                      std::vector<double>* energies, ResidualSource source) {
     const int num_frames = num_frames_ = static_cast<int>(problem.frames.size());
     typename CameraD::VecN intrinsics = Eigen::Map<const typename CameraD::VecN>(problem.intrinsics);
     scaleIntrinsicsToLevel(intrinsics, 0);  // as the cost function does (level 0)
@@ -79,7 +95,11 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
     const int num_residuals = static_cast<int>(problem.residuals.size());
     groupResidualsByPair(problem);
     terms_.resize(num_residuals);
+    if (source == ResidualSource::kKeep) kept_residuals_.resize(num_residuals);
     const bool with_equations = equations != nullptr;
+    // OutOfBoundsPenalty's constant residual √(E/N) per pixel.
+    const PatchResiduals penalty = PatchResiduals::Constant(std::sqrt(problem.out_of_bounds_energy / kN));
+    const RobustCorrection invalid_correction(problem.photometric_loss, penalty.squaredNorm());
     runTasks(problem.pool, static_cast<int>(used_pairs_.size()), [&](int task) {
       const int pair = used_pairs_[task];
       Eigen::Matrix<double, kN, 1> r;
@@ -98,21 +118,30 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
             pairs_[pair], *point.inverse_distance, r.data(), with_equations ? &patch : nullptr,
             want_intrinsics);
         terms.valid = status == PhotometricStatus::kValid;
-        if (!terms.valid) continue;  // a zero Jacobian: nothing to accumulate
+        const bool keep = source == ResidualSource::kKeep;
+        if (!terms.valid) {  // a zero Jacobian: nothing to accumulate
+          if (keep) {
+            kept_residuals_[i] = penalty;
+            invalid_correction.correctResiduals(kept_residuals_[i]);
+          }
+          continue;
+        }
         terms.energy = r.squaredNorm();
         const RobustCorrection correction(problem.photometric_loss, r.squaredNorm());
         terms.cost = correction.cost();
+        if (keep) {
+          kept_residuals_[i] = r;
+          correction.correctResiduals(kept_residuals_[i]);
+        }
         if (with_equations)
           accumulate(*point.patch, patch, pair, *point.inverse_distance, r, correction,
+                     source == ResidualSource::kKept ? &kept_residuals_[i] : nullptr,
                      want_intrinsics, &gram, &terms);
       }
       if (with_equations) pair_grams_[pair] = gram;
     });
 
-    // OutOfBoundsPenalty's constant residual √(E/N) per pixel.
-    const Eigen::Matrix<double, kN, 1> penalty =
-        Eigen::Matrix<double, kN, 1>::Constant(std::sqrt(problem.out_of_bounds_energy / kN));
-    const double invalid_cost = RobustCorrection(problem.photometric_loss, penalty.squaredNorm()).cost();
+    const double invalid_cost = invalid_correction.cost();
     if (energies) energies->resize(num_residuals);
     double cost = 0.0;
     for (int k = 0; k < num_residuals; ++k) {
@@ -134,7 +163,6 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
     return cost;
   }
 
- private:
   // b_o (and ∂b_o/∂c when the intrinsics are variable) per point, kept while the
   // intrinsics are the same.
   void refreshBearings(const WindowProblem& problem, const CameraD& camera,
@@ -184,10 +212,11 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   }
 
   // One valid residual: its rows [J_pair J_c | r̃] and ∂r̃/∂d (header), robust-corrected,
-  // into its pair's Gram matrix `gram`; its point's terms into `terms`.
+  // into its pair's Gram matrix `gram`; its point's terms into `terms`. r̃ is `r` corrected,
+  // or `kept_residual` where given (linearizeAt).
   void accumulate(const HostPatch<kN>& host, const PatchDerivatives<kN, K>& patch, int pair_index,
-                  double d, const Eigen::Matrix<double, kN, 1>& r,
-                  const RobustCorrection& correction, bool want_intrinsics, PairGram* gram,
+                  double d, const PatchResiduals& r, const RobustCorrection& correction,
+                  const PatchResiduals* kept_residual, bool want_intrinsics, PairGram* gram,
                   ResidualTerms* terms) {
     const PhotometricPair& pair = pairs_[pair_index];
     Rows rows;
@@ -211,8 +240,12 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
     correction.correctJacobian(r, J);
     correction.correctJacobian(r, J_d);
     auto r_corrected = rows.col(kColumns);
-    r_corrected = r;
-    correction.correctResiduals(r_corrected);
+    if (kept_residual) {
+      r_corrected = *kept_residual;
+    } else {
+      r_corrected = r;
+      correction.correctResiduals(r_corrected);
+    }
 
     addToLowerGram(Rows(rows), gram->lower, std::make_integer_sequence<int, (kGramSize + 1) / 2>{});
     gram->used = true;
@@ -325,6 +358,7 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   std::vector<PairGram> pair_grams_;
   std::vector<int> pair_begin_, residuals_by_pair_, position_by_pair_, used_pairs_;
   std::vector<ResidualTerms> terms_;  // per residual, in residuals_by_pair_ order
+  std::vector<PatchResiduals> kept_residuals_;  // r̃ at `current` (linearizeAt), likewise
 };
 
 }  // namespace

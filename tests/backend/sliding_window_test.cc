@@ -185,10 +185,11 @@ TEST(SlidingWindow, ReusingEvaluationsChangesNoBit) {
 
 // Deferred residual blocks (sliding_window.hpp): a window the native solver solves keeps its
 // photometric residuals out of the ceres::Problem — also after a solve, the outlier pass and a
-// marginalisation, which adds the marginalised points' blocks and removes them with the points
+// marginalisation, whose points are marginalised natively (window_point_marginalization.hpp)
 // — until mutableProblem() asks for the problem, which then holds one block per residual. A
-// window solved by Ceres adds every block at once. (That the deferred marginalisation builds
-// the same prior is WindowSolverAgainstCeres.ReachesTheSameSolution.)
+// window solved by Ceres adds every block at once. (That the native marginalisation builds
+// the same prior: window_point_marginalization_test.cc and
+// WindowSolverAgainstCeres.ReachesTheSameSolution.)
 TEST(SlidingWindowDeferredBlocks, OnlyACeresPathAddsPhotometricBlocksToTheProblem) {
   const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
   const int num_keyframes = 4;

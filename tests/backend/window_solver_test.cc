@@ -358,9 +358,10 @@ void expectSameSolution(const SlidingWindow& native, const SlidingWindow& ceres,
 class WindowSolverAgainstCeres : public ::testing::TestWithParam<bool> {};
 
 // The same window solved by ceres::Solve and by the native solver — 5 iterations, with the
-// priors — then outliers removed, keyframe 2 marginalised (through the ceres::Problem, at the
-// native solver's result), the newest keyframe moved and both solved again: the same
-// iterations, accepted steps, termination, costs and parameters.
+// priors — then outliers removed, keyframe 2 marginalised (its points natively in the one,
+// through the ceres::Problem in the other, at the native solver's result), the newest keyframe
+// moved and both solved again: the same iterations, accepted steps, termination, costs and
+// parameters.
 TEST_P(WindowSolverAgainstCeres, ReachesTheSameSolution) {
   const bool optimize_intrinsics = GetParam();
   auto native = windowWithPriors(solverOptions(true, optimize_intrinsics, 5));
@@ -371,7 +372,9 @@ TEST_P(WindowSolverAgainstCeres, ReachesTheSameSolution) {
     const WindowSolveSummary n = native->optimize(), c = ceres->optimize();
     EXPECT_EQ(c.linear_solver, "DENSE_SCHUR");
     EXPECT_LT(c.final_cost, c.initial_cost);
-    expectSameSolution(*native, *ceres, n, c, 1e-12);
+    // The priors of keyframe 1 come from the two marginalisation paths (the native one of
+    // window_point_marginalization.hpp, Ceres's), equal to rounding: 1e-9 as below.
+    expectSameSolution(*native, *ceres, n, c, 1e-9);
   }
   EXPECT_EQ(native->removeOutliers(), ceres->removeOutliers());
   native->marginalizeKeyframe(2);

@@ -52,6 +52,16 @@ class Marginalizer {
   ceres::ResidualBlockId marginalize(ceres::Problem& problem, const std::vector<double*>& blocks,
                                      MarginalizationStats* stats = nullptr);
 
+  // Steps 4–5 for a Schur complement formed elsewhere (the window's native marginalisation
+  // of points, window_point_marginalization.hpp): H* and g* over `kept` — non-constant blocks
+  // of `problem`, in δ = x ⊟ x̄ coordinates with x̄ each block's firstEstimate — become a
+  // prior in `problem`. Returns its residual block, or nullptr when H* carries no information.
+  ceres::ResidualBlockId addPrior(ceres::Problem& problem, const std::vector<double*>& kept,
+                                  const Eigen::MatrixXd& H_star, const Eigen::VectorXd& g_star,
+                                  MarginalizationStats* stats = nullptr);
+
+  // x̄ of a block: its first-estimate point, or its current value when no prior touches it.
+  Eigen::VectorXd firstEstimate(const ceres::Problem& problem, const double* block) const;
   // First-estimate point of a block, or nullptr when no prior touches it.
   const Eigen::VectorXd* linearizationPoint(const double* block) const;
   // Call when a block leaves the problem by other means (e.g. a dropped point).

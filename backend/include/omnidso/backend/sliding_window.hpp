@@ -51,7 +51,9 @@
 // observed by the two newest keyframes, are marginalised (points with no residual are
 // dropped: they carry no information); residuals of the remaining points in the keyframe
 // are dropped (DSO, to keep the Hessian sparse); then the keyframe's pose and affine blocks
-// are marginalised into the prior (marginalizer.hpp).
+// are marginalised into the prior (marginalizer.hpp). Where the residual blocks are deferred
+// the points' Schur complement is formed from the native terms instead of Ceres's
+// evaluation (window_point_marginalization.hpp), the same prior without their blocks.
 
 #include <ceres/problem.h>
 
@@ -290,6 +292,13 @@ class SlidingWindow {
   // Ceres, or the native solver where options_.native_solver allows it (level 0).
   WindowSolveSummary solve(int level);
   WindowSolveSummary solveNative(const WindowProblem& problem, WindowSolveSummary out);
+  // The native view (window_problem.hpp) of the keyframes and of `points` — their residuals,
+  // no priors.
+  WindowProblem nativePhotometricProblem(const std::vector<const WindowPoint*>& points);
+  // Marginalises the points into a prior natively (window_point_marginalization.hpp) where
+  // that path applies — every residual of theirs deferred, no other block on them — and
+  // removes their blocks from the problem. False where it does not apply (nothing changed).
+  bool marginalizePointsNatively(const std::vector<int>& ids);
   // Drops a point and its residuals without marginalising it (points that carry information
   // are marginalised with their keyframe in marginalizeKeyframe).
   void dropPoint(int id);

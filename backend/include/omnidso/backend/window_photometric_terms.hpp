@@ -49,6 +49,14 @@ class WindowPhotometricTerms {
   // OutOfBoundsPenalty::rawEnergy), in problem.residuals order.
   virtual double evaluate(const WindowProblem& problem, WindowNormalEquations* equations,
                           std::vector<double>* energies = nullptr) = 0;
+  // The marginalisation's linearisation (marginalizer.hpp, step 2, with first-estimate
+  // Jacobians): into `equations`, every residual's J̃ᵀJ̃ and J̃ᵀr̃ with J̃ at the values of
+  // `first_estimate` (robust-corrected at its residual there) and r̃ at the values of
+  // `current` — two problems with the same points and residuals whose frames and intrinsics
+  // point to different values. A residual invalid at `first_estimate` adds nothing (its
+  // Jacobian is zero); one invalid at `current` has OutOfBoundsPenalty's residual there.
+  virtual void linearizeAt(const WindowProblem& current, const WindowProblem& first_estimate,
+                           WindowNormalEquations* equations) = 0;
 };
 
 // One instantiation per camera model with a residual kernel (photometric_factory.hpp).
