@@ -79,6 +79,7 @@ void Initializer::setFirstFrame(std::shared_ptr<const ImagePyramid> pyramid, dou
   impl_->pixels.clear();
   impl_->inverse_distances.clear();
   impl_->level_patches.clear();  // their host exposure and capacity are the first frame's
+  impl_->level_members.clear();
   for (const SelectedPixel& p : selectPixels(*impl_->first, impl_->mask, impl_->options.selection)) {
     impl_->pixels.push_back(p.pixel.cast<double>());
     impl_->inverse_distances.push_back(1.0);

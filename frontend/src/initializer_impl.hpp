@@ -44,6 +44,9 @@ struct Initializer::Impl {
   SE3Manifold manifold;
   // The native path's patches per level, for the current first frame (buildNativeLevel).
   std::vector<std::unique_ptr<InitializerLevelPatchesBase>> level_patches;
+  // Per level, which points enter its problem (options.level_cell_px), for the current first
+  // frame (levelMembers).
+  std::vector<std::vector<char>> level_members;
   int frames_tried = 0;
   int snapped_at = -1;  // frames_tried when the parallax first sufficed; -1 before
   std::string status = "no frame yet";
@@ -103,6 +106,9 @@ struct Initializer::Impl {
                                                            int level) const;
 
   static bool insideMargin(const Eigen::Vector2d& p, const ImageF& image);
+  // Per point, whether it enters level `level`'s problem: the first point of each cell of
+  // options.level_cell_px level pixels, in selection order (all on level 0, or with 0).
+  const std::vector<char>& levelMembers(int level);
 
   double regularizerMean(bool snapped) const;
 

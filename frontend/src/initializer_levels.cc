@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <set>
+#include <utility>
 #include <omnidso/backend/affine_prior.hpp>
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/residuals/out_of_bounds_penalty.hpp>
@@ -79,9 +81,10 @@ Initializer::Impl::LevelProblem Initializer::Impl::buildLevel(int level, const I
   problem.AddParameterBlock(intrinsics.data(), static_cast<int>(intrinsics.size()));
   problem.SetParameterBlockConstant(intrinsics.data());
   const double mean_d = regularizerMean(snapped);
+  const std::vector<char>& members = levelMembers(level);
   for (size_t i = 0; i < pixels.size(); ++i) {
     const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
-    if (!insideMargin(p, host_image)) continue;
+    if (!members[i] || !insideMargin(p, host_image)) continue;
     WindowObservation obs;
     obs.host = makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p);
     obs.target_image = &frame.level(level);
@@ -178,9 +181,10 @@ Initializer::Impl::NativeLevel Initializer::Impl::buildNativeLevel(int level,
   patches.setFrame(frame.level(level), frame.content(level), exposure);
   patches.setPoint(pose.data(), affine.data());
   const ImageF& host_image = first->level(level);
+  const std::vector<char>& members = levelMembers(level);
   for (size_t i = 0; i < pixels.size(); ++i) {
     const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
-    if (!insideMargin(p, host_image)) continue;
+    if (!members[i] || !insideMargin(p, host_image)) continue;
     if (patches.addIfValid(makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p),
                            inverse_distances[i]))
       nl.points.push_back(i);
@@ -218,6 +222,22 @@ InitializerLevelPatchesBase& Initializer::Impl::levelPatches(int level) {
     patches = withResidualModel<std::unique_ptr<InitializerLevelPatchesBase>>(
         camera, [&](auto tag, const auto& model) { return makePatches(tag, model, level); });
   return *patches;
+}
+
+const std::vector<char>& Initializer::Impl::levelMembers(int level) {
+  if (level_members.size() <= static_cast<size_t>(level)) level_members.resize(level + 1);
+  std::vector<char>& members = level_members[static_cast<size_t>(level)];
+  if (members.size() == pixels.size()) return members;
+  const double cell = options.level_cell_px;
+  members.assign(pixels.size(), 1);
+  if (level == 0 || !(cell > 0)) return members;
+  std::set<std::pair<long, long>> taken;
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    const long u = static_cast<long>(std::floor(pixelToLevel(pixels[i].x(), level) / cell));
+    const long v = static_cast<long>(std::floor(pixelToLevel(pixels[i].y(), level) / cell));
+    members[i] = taken.emplace(u, v).second;
+  }
+  return members;
 }
 
 bool Initializer::Impl::insideMargin(const Eigen::Vector2d& p, const ImageF& image) {

@@ -80,6 +80,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"initializer.affine_prior_weight_b", &o.initializer.affine_prior_weight_b},
       {"initializer.rotation_search_half_width", &o.initializer.rotation_search_half_width},
       {"initializer.rotation_search_step_px", &o.initializer.rotation_search_step_px},
+      {"initializer.level_cell_px", &o.initializer.level_cell_px},
       {"initializer.frames_after_snap", &o.initializer.frames_after_snap},
       {"initializer.min_parallax_px", &o.initializer.min_parallax_px},
       {"initializer.max_rmse", &o.initializer.max_rmse},

@@ -49,6 +49,12 @@ struct InitializerOptions {
   // prediction, `rotation_search_step_px` apart at that level; h = 0 switches it off.
   int rotation_search_half_width = 2;
   double rotation_search_step_px = 1.5;
+  // On level L ≥ 1 a point enters the level's problem (and the rotation search) only when no
+  // earlier point of the first frame's selection falls in the same cell of this many level-L
+  // pixels: the ≈ 2 000 level-0 points crowd a coarse level — two and more per pixel of a
+  // 30 × 30 level 4 — where their patterns sample the same pixels and only multiply the work.
+  // 0: every point on every level.
+  double level_cell_px = 1.0;
   int frames_after_snap = 0;
   double min_parallax_px = 0.0;        // 0: use 0.01 · (w + h)
   double max_rmse = 15.0;              // intensity units per residual pixel
