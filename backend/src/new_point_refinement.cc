@@ -1,11 +1,11 @@
 // SlidingWindow::refineNewPoint: the candidate's inverse distance optimised against every
 // window keyframe before activation (new_point_refinement.hpp has the equations).
-#include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
 
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <omnidso/backend/inverse_distance_residuals.hpp>
 #include <omnidso/backend/sliding_window.hpp>
 #include <vector>
 
@@ -19,11 +19,6 @@ struct TargetEvaluation {
   double robust_energy = 0.0;
   double rho_prime = 0.0;
   Eigen::Matrix<double, kWindowPatternSize, 1> r, J;
-};
-
-struct Target {
-  std::unique_ptr<ceres::CostFunction> cost;
-  std::vector<double*> blocks;
 };
 
 }  // namespace
@@ -40,31 +35,23 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
     out.verdict = NewPointVerdict::kInconsistent;
     return out;
   }
-  WindowObservation obs;
-  obs.host = makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(0), pixel,
-                                               options_.gradient_weight_c);
-  obs.host_exposure = host.exposure;
-  double d = inverse_distance;
-  std::vector<Target> targets;
+  std::vector<InverseDistanceTarget> targets;
   for (const auto& kf : keyframes_) {
     if (kf->id == host_id) continue;
-    obs.target_image = &kf->pyramid->level(0);
-    obs.target_content = kf->pyramid->content(0);
-    obs.target_exposure = kf->exposure;
-    Target t;
-    t.cost.reset(factory_->makeCost(DifferentiationMode::kAnalytic, obs));
-    // The cost functions only read the blocks; the window's blocks are not modified.
-    t.blocks = {const_cast<double*>(host.pose.data()), const_cast<double*>(kf->pose.data()), &d,
-                const_cast<double*>(host.affine.data()), const_cast<double*>(kf->affine.data()),
-                const_cast<double*>(intrinsics_.data())};
-    targets.push_back(std::move(t));
+    targets.push_back({&kf->pyramid->level(0), kf->pyramid->content(0), kf->pose.data(),
+                       kf->affine.data(), kf->exposure});
   }
-  out.num_targets = static_cast<int>(targets.size());
+  const std::unique_ptr<InverseDistanceResiduals> residuals = factory_->makeInverseDistanceResiduals(
+      intrinsics_,
+      makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(0), pixel,
+                                        options_.gradient_weight_c),
+      host.pose.data(), host.affine.data(), host.exposure, targets);
+  out.num_targets = residuals->numTargets();
+  double d = inverse_distance;
 
-  auto evaluate = [&](const Target& t) {
+  auto evaluate = [&](int k) {
     TargetEvaluation e;
-    double* jacobians[6] = {nullptr, nullptr, e.J.data(), nullptr, nullptr, nullptr};
-    if (!t.cost->Evaluate(t.blocks.data(), e.r.data(), jacobians)) return e;
+    if (!residuals->evaluate(k, d, &e.r, &e.J)) return e;
     e.valid = true;
     e.raw_energy = e.r.squaredNorm();
     double rho[3];
@@ -84,8 +71,8 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
   };
   auto linearize = [&] {
     Linearization l;
-    for (const Target& t : targets) {
-      const TargetEvaluation e = evaluate(t);
+    for (int k = 0; k < residuals->numTargets(); ++k) {
+      const TargetEvaluation e = evaluate(k);
       if (!e.valid) {
         l.energy += invalid_rho[0];
         continue;

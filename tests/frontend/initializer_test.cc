@@ -6,6 +6,8 @@
 #include <cmath>
 #include <functional>
 #include <iostream>
+#include <memory>
+#include <vector>
 #include <omnidso/frontend/initializer.hpp>
 #include <omnidso/synth/synthetic_sequence.hpp>
 
@@ -165,6 +167,48 @@ TEST(Initializer, WaitsWhenNoPointProjectsAnyMore) {
         << "frame " << k << ": " << initializer.status();
   }
   EXPECT_NE(initializer.status().find(" 0 points"), std::string::npos) << initializer.status();
+}
+
+// The coarse levels take one point per level pixel (InitializerOptions::level_cell_px): the
+// level-0 selection crowds a 20 × 20 level 4 with several points per pixel, all of which
+// entered its problem and the rotation search before. With cells of one pixel a level's
+// problem can hold no more points than the level has pixels; level 0 keeps every point, and
+// a coarse level keeps at least one point in every pixel the selection reaches — so it
+// still holds most of level 1's points, whose pixels the selection rarely shares.
+TEST(Initializer, CoarseLevelsTakeOnePointPerLevelPixel) {
+  const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
+  const test::RenderedScene scene(camera, 3);
+  const SE3d start = scene.centralPose();
+  const std::shared_ptr<const ImagePyramid> first = scene.renderPyramid(start, 5, kBlurSigmaPx);
+  const ImagePyramid frame =
+      *scene.renderPyramid(test::moveInCamera(start, {0.02, 0.0, 0.0}, {1.0, 0.5, 0.0}), 5, kBlurSigmaPx);
+  std::vector<int> points_per_level[2];  // [cell 0 | cell 1][level]
+  for (const double cell : {0.0, 1.0}) {
+    InitializerOptions options;
+    options.level_cell_px = cell;
+    Initializer initializer(camera, validityMask(camera), options);
+    initializer.setFirstFrame(first, 1.0);
+    for (int level = 0; level < 5; ++level) {
+      InitializerState state = initializer.state();
+      points_per_level[static_cast<int>(cell)].push_back(
+          initializer.solveLevel(frame, 1.0, level, false, &state).num_points);
+    }
+  }
+  const std::vector<int>& all = points_per_level[0];
+  const std::vector<int>& one_per_pixel = points_per_level[1];
+  std::cout << "points per level, every point: " << all[0] << " " << all[1] << " " << all[2] << " "
+            << all[3] << " " << all[4] << "; one per pixel: " << one_per_pixel[0] << " "
+            << one_per_pixel[1] << " " << one_per_pixel[2] << " " << one_per_pixel[3] << " "
+            << one_per_pixel[4] << "\n";
+  ASSERT_GT(all[0], 500);
+  EXPECT_EQ(one_per_pixel[0], all[0]);
+  EXPECT_GT(one_per_pixel[1], all[1] * 3 / 4);
+  for (int level = 1; level < 5; ++level) {
+    const int pixels = frame.level(level).width() * frame.level(level).height();
+    EXPECT_LE(one_per_pixel[level], pixels) << "level " << level;
+    EXPECT_LE(one_per_pixel[level], all[level]) << "level " << level;
+  }
+  EXPECT_GT(all[4], frame.level(4).width() * frame.level(4).height());  // crowded without it
 }
 
 }  // namespace

@@ -9,10 +9,13 @@
 #include <memory>
 #include <omnidso/residuals/photometric_cost.hpp>
 #include <string>
+#include <vector>
 
 namespace omnidso {
 
 class WindowPhotometricTerms;
+class InverseDistanceResiduals;
+struct InverseDistanceTarget;
 
 inline constexpr int kWindowPatternSize = 8;  // DSO's pattern (residual_pattern.hpp)
 using WindowObservation = PhotometricObservation<kWindowPatternSize>;
@@ -31,6 +34,14 @@ class PhotometricResidualFactory {
 
   // The residuals of this model for the native window solver (window_photometric_terms.hpp).
   virtual std::shared_ptr<WindowPhotometricTerms> makeWindowTerms() const = 0;
+
+  // One host patch's residuals in `targets` as functions of the inverse distance
+  // (inverse_distance_residuals.hpp); level 0, the host's pose and affine block at `host_pose`
+  // and `host_affine`, the level-0 `intrinsics` (all read now, not kept).
+  virtual std::unique_ptr<InverseDistanceResiduals> makeInverseDistanceResiduals(
+      const Eigen::VectorXd& intrinsics, const HostPatch<kWindowPatternSize>& host,
+      const double* host_pose, const double* host_affine, double host_exposure,
+      const std::vector<InverseDistanceTarget>& targets) const = 0;
 
   // Unit bearing of a level-0 pixel; false outside the model's image of the sphere.
   virtual bool unproject(const Eigen::VectorXd& intrinsics, const Eigen::Vector2d& pixel,

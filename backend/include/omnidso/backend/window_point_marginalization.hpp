@@ -4,7 +4,7 @@
 // through Ceres for the same points (marginalizer.hpp, steps 1–3), with no residual block in
 // the ceres::Problem. Adding, evaluating and removing those blocks through Ceres was as much
 // of a keyframe's mapping time as the window solve (docs/performance.md, "Native point
-// marginalisation").
+// marginalisation; one point per coarse pixel in the initialiser").
 //
 // For the points of `current` — all their residuals and only those; no prior touches a
 // point — with x̄ the first-estimate point of the frames' and the intrinsics' blocks
