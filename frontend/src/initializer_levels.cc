@@ -262,11 +262,18 @@ std::vector<double> Initializer::Impl::candidateCosts(int level, const ImagePyra
     const NativeLevel nl = buildNativeLevel(level, frame, exposure, snapped);
     std::vector<double> d;
     for (size_t i : nl.points) d.push_back(inverse_distances[i]);
-    // One contiguous chunk of candidates per compute thread, each with its own copy of the
-    // patches (setPoint keeps the frame state in them), copied before any chunk runs: every
-    // cost is the same evaluation, in the same order of operations, whatever the thread count.
-    if (!nl.points.empty()) costs.resize(candidates.size());
-    const int n = static_cast<int>(costs.size());
+    // candidates[0] (the prediction, usually near the least) first, on the calling thread:
+    // with least_only its cost bounds every chunk from the start. Then one contiguous chunk
+    // of the others per compute thread, each with its own copy of the patches (setPoint keeps
+    // the frame state in them), copied before any chunk runs: every cost is the same
+    // evaluation, in the same order of operations, whatever the thread count. A chunk that
+    // started from no bound computed its first candidates in full: two chunks did more work
+    // than one (D1's initialisation slower with two compute threads than with one).
+    if (nl.points.empty()) return costs;
+    costs.resize(candidates.size());
+    costs[0] = initializerLevelCost(nl.problem, pose.data(), affine.data(), d,
+                                    std::numeric_limits<double>::infinity());
+    const int n = static_cast<int>(costs.size()) - 1;  // the others, from index 1
     const int chunks = std::min(n, pool ? pool->numThreads() : 1);
     std::vector<std::unique_ptr<InitializerPatches>> copies;
     for (int c = 1; c < chunks; ++c) copies.push_back(nl.problem.patches->clone());
@@ -274,8 +281,8 @@ std::vector<double> Initializer::Impl::candidateCosts(int level, const ImagePyra
       InitializerLevelProblem problem = nl.problem;
       if (c > 0) problem.patches = copies[static_cast<size_t>(c - 1)].get();
       std::array<double, 7> candidate_pose;
-      double least = std::numeric_limits<double>::infinity();
-      for (int k = n * c / chunks; k < n * (c + 1) / chunks; ++k) {
+      double least = costs[0];
+      for (int k = 1 + n * c / chunks; k < 1 + n * (c + 1) / chunks; ++k) {
         candidates[k].toParameters(candidate_pose.data());
         costs[k] = initializerLevelCost(problem, candidate_pose.data(), affine.data(), d,
                                         least_only ? least : std::numeric_limits<double>::infinity());
