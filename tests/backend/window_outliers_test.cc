@@ -19,15 +19,9 @@ using Residuals = std::set<std::pair<int, int>>;  // (point id, target keyframe 
 
 constexpr int kNumKeyframes = 4;
 
-const Camera& testCamera() {
-  static const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
-  return camera;
-}
+const Camera& testCamera() { return test::sweepCamera(); }
 
-const test::WindowScene& testScene() {
-  static const test::WindowScene scene(testCamera(), kNumKeyframes, test::sweep);
-  return scene;
-}
+const test::WindowScene& testScene() { return test::sweepScene(kNumKeyframes); }
 
 std::unique_ptr<SlidingWindow> solvedWindow(const WindowOptions& options) {
   auto window = test::perturbedWindow(testCamera(), testScene(), options, kNumKeyframes);

@@ -16,21 +16,14 @@ namespace omnidso {
 namespace {
 
 using test::perturbedWindow;
-using test::sweep;
 using test::WindowScene;
 
 constexpr int kNumKeyframes = 4;
 constexpr int kHost = 1;  // the keyframe whose points are marginalised
 
-const Camera& testCamera() {
-  static const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
-  return camera;
-}
+const Camera& testCamera() { return test::sweepCamera(); }
 
-const WindowScene& testScene() {
-  static const WindowScene scene(testCamera(), kNumKeyframes, sweep);
-  return scene;
-}
+const WindowScene& testScene() { return test::sweepScene(kNumKeyframes); }
 
 // The points of `window` hosted by frame `host` (and their residuals), no priors; and the
 // same problem with every frame and the intrinsics at a first estimate x̄ a little apart from

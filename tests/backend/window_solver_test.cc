@@ -22,21 +22,14 @@ namespace {
 
 using test::expectSameStateBitForBit;
 using test::perturbedWindow;
-using test::sweep;
 using test::WindowScene;
 using SparseRows = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 constexpr int kNumKeyframes = 5;
 
-const Camera& testCamera() {
-  static const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
-  return camera;
-}
+const Camera& testCamera() { return test::sweepCamera(); }
 
-const WindowScene& testScene() {
-  static const WindowScene scene(testCamera(), kNumKeyframes, sweep);
-  return scene;
-}
+const WindowScene& testScene() { return test::sweepScene(kNumKeyframes); }
 
 WindowOptions solverOptions(bool native, bool optimize_intrinsics, int max_iterations) {
   WindowOptions options;

@@ -43,6 +43,20 @@ inline std::pair<Eigen::Vector3d, Eigen::Vector3d> sweep(int k) {
   return {{0.06 * k, 0.01 * k, 0.04 * k}, {0.5 * k, 4.0 * k, 0.0}};
 }
 
+// The fisheye camera of the window tests (UCM, 185°, 320 × 320) and its sweep of
+// `num_keyframes` keyframes, rendered once per test process and count.
+inline const Camera& sweepCamera() {
+  static const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
+  return camera;
+}
+
+inline const WindowScene& sweepScene(int num_keyframes) {
+  static std::map<int, std::unique_ptr<const WindowScene>> scenes;
+  std::unique_ptr<const WindowScene>& scene = scenes[num_keyframes];
+  if (!scene) scene = std::make_unique<const WindowScene>(sweepCamera(), num_keyframes, sweep);
+  return *scene;
+}
+
 // The strongest-gradient valid pixel of every cell × cell block (a simple stand-in for the
 // frontend's pixel selector, which the backend does not depend on).
 inline std::vector<Eigen::Vector2i> gradientPixels(const ImagePyramid& image, const Mask& mask,
