@@ -1,8 +1,9 @@
 // SlidingWindow's marginalisation step (sliding_window.hpp, paper Sec. V-C): the policy's
 // view of the window, then for a keyframe leaving it — its points and the points the two
 // newest keyframes no longer observe are marginalised into the prior (kept for the map as
-// MarginalizedPoint), the other points' residuals into it are dropped (DSO: sparsity), and
-// finally its own pose and affine blocks are marginalised (marginalizer.hpp).
+// MarginalizedPoint; natively where their residual blocks are deferred,
+// window_point_marginalization.hpp), the other points' residuals into it are dropped (DSO:
+// sparsity), and finally its own pose and affine blocks are marginalised (marginalizer.hpp).
 #include <algorithm>
 #include <omnidso/backend/sliding_window.hpp>
 #include <omnidso/backend/window_point_marginalization.hpp>

@@ -1,8 +1,8 @@
 // The native marginalisation of window points (window_point_marginalization.hpp).
+#include <cmath>
 #include <omnidso/backend/window_normal_equations.hpp>
 #include <omnidso/backend/window_photometric_terms.hpp>
 #include <omnidso/backend/window_point_marginalization.hpp>
-#include <cmath>
 #include <omnidso/core/error.hpp>
 
 namespace omnidso {
@@ -32,7 +32,8 @@ PointSchurComplement marginalizePoints(const WindowProblem& current,
   if (current.frames.size() != first_estimate.frames.size() ||
       current.points.size() != first_estimate.points.size() ||
       current.residuals.size() != first_estimate.residuals.size())
-    throw Error("marginalizePoints: the two problems must have the same frames, points and residuals");
+    throw Error(
+        "marginalizePoints: the two problems must have the same frames, points and residuals");
   const int num_points = static_cast<int>(current.points.size());
   WindowNormalEquations equations;
   equations.reset(current.frameSpaceSize(), num_points);
@@ -41,7 +42,7 @@ PointSchurComplement marginalizePoints(const WindowProblem& current,
   // g = Σ J̃ᵀr̃ − H (x ⊟ x̄): the frames' part and each point's (δ_p = 0: a point's x̄ is x).
   const Eigen::VectorXd delta = frameSpaceDelta(current, first_estimate);
   const Eigen::VectorXd g_f = equations.frameGradient() - equations.frameHessian() * delta;
-  Eigen::VectorXd g_p = equations.pointGradient() - equations.pointCoupling() * delta;
+  const Eigen::VectorXd g_p = equations.pointGradient() - equations.pointCoupling() * delta;
 
   // K: the variable blocks some residual touches, and their frame-space columns.
   PointSchurComplement out;
@@ -73,14 +74,16 @@ PointSchurComplement marginalizePoints(const WindowProblem& current,
     const double h = equations.pointHessian()[p];
     if (current.points[p].constant || !(h > 0.0)) continue;
     const double inverse_sqrt_h = 1.0 / std::sqrt(h);
-    for (int c = 0; c < k; ++c) scaled_coupling(p, c) = equations.pointCoupling()(p, columns[c]) * inverse_sqrt_h;
+    for (int c = 0; c < k; ++c)
+      scaled_coupling(p, c) = equations.pointCoupling()(p, columns[c]) * inverse_sqrt_h;
     scaled_gradient[p] = g_p[p] * inverse_sqrt_h;
   }
   out.information.resize(k, k);
   out.gradient.resize(k);
   for (int a = 0; a < k; ++a) {
     out.gradient[a] = g_f[columns[a]];
-    for (int b = 0; b < k; ++b) out.information(a, b) = equations.frameHessian()(columns[a], columns[b]);
+    for (int b = 0; b < k; ++b)
+      out.information(a, b) = equations.frameHessian()(columns[a], columns[b]);
   }
   out.information.noalias() -= scaled_coupling.transpose() * scaled_coupling;
   out.information = 0.5 * (out.information + out.information.transpose()).eval();
