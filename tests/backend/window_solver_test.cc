@@ -499,7 +499,8 @@ TEST(WindowSolverDeterminism, SolvesBitForBitIndependentlyOfTheHeapLayout) {
 
 // The same solves with the evaluation on compute threads (task_pool.hpp: each pair's sum in
 // one task, the points' and the cost's sums in residual order afterwards) come out bit for
-// bit equal to the solves on the calling thread alone, for 2 and 3 threads.
+// bit equal to the solves on the calling thread alone, for 2 and 3 threads — the native
+// marginalisation of keyframe 2's points between them linearising on the threads too.
 TEST(WindowSolverDeterminism, SolvesBitForBitIndependentlyOfTheComputeThreads) {
   const auto [a, a_first, a_second] = solveMarginalizeSolve(nullptr);
   for (int threads : {2, 3}) {
