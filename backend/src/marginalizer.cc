@@ -347,11 +347,12 @@ ceres::ResidualBlockId Marginalizer::addPrior(ceres::Problem& problem,
     prior_blocks[i].manifold = problem.GetManifold(kept[i]);
     prior_blocks[i].linearization_point = firstEstimate(problem, kept[i]);
   }
+  // 5 (second half). First-estimate points for the blocks the prior now touches.
+  for (size_t i = 0; i < kept.size(); ++i)
+    linearization_points_.emplace(kept[i], prior_blocks[i].linearization_point);
   auto* prior = new MarginalizationPrior(std::move(prior_blocks), std::move(S), std::move(s));
   const ceres::ResidualBlockId prior_id = problem.AddResidualBlock(prior, nullptr, kept);
   if (stats) stats->num_prior_blocks = static_cast<int>(kept.size());
-  // 5 (second half). First-estimate points for the blocks the prior now touches.
-  for (double* block : kept) linearization_points_.emplace(block, firstEstimate(problem, block));
   return prior_id;
 }
 

@@ -115,8 +115,9 @@ struct Initializer::Impl {
   // The cost of the level's problem — the points valid at candidates[0] — at every candidate
   // pose (+∞ where it cannot be evaluated); empty when no point is valid. The pose is left
   // at candidates[0]. least_only: a candidate's evaluation stops (+∞) once its sum exceeds
-  // the least cost its chunk of candidates has seen (initializerLevelCost's bound), which never stops the
-  // first of the least: the search's choice is the same, the other costs are not.
+  // the least cost seen so far — candidates[0]'s, evaluated first, and its chunk's since
+  // (initializerLevelCost's bound) —, which never stops the first of the least: the search's
+  // choice is the same, the other costs are not.
   std::vector<double> candidateCosts(int level, const ImagePyramid& frame, double exposure,
                                      bool snapped, const std::vector<SE3d>& candidates,
                                      bool least_only = false);

@@ -62,10 +62,11 @@ struct OdometryOptions {
   // non-keyframes. Not repeatable bit for bit (it depends on thread timing); off by default.
   bool realtime = false;
   // Threads for the steps that split into independent work (epipolar search, the window's
-  // evaluation, candidate refinement, the new candidates beside the marginalisation, the
-  // initialiser's rotation search), the caller included; 0: the hardware threads (at most 8). Each step is split so that every
-  // sum is formed by one task in a fixed order: the trajectory is the same bit for bit for
-  // any count (core/task_pool.hpp).
+  // evaluation and the marginalisation's linearisation, candidate refinement, the new
+  // candidates beside the marginalisation, the initialiser's rotation search), the caller
+  // included; 0: the hardware threads (at most 8). Each step is split so that every sum is
+  // formed by one task in a fixed order: the trajectory is the same bit for bit for any count
+  // (core/task_pool.hpp).
   int compute_threads = 1;
 };
 
