@@ -178,10 +178,9 @@ TEST(InitializerSolverTest, RotationSearchCostsAgreeWithCeres) {
       return std::min_element(c.begin(), c.end()) - c.begin();
     };
     EXPECT_EQ(least(a), least(b));
-    // The search decides something: the costs differ by far more than their rounding (the
-    // worst node costs a tenth more than the least, where rounding is 1e-15 of it), and the
-    // least is not the centre.
-    EXPECT_GT(*std::max_element(b.begin(), b.end()), 1.1 * b[static_cast<size_t>(least(b))]);
+    // The search decides something: the costs differ by far more than their rounding, and
+    // the least is not the centre.
+    EXPECT_GT(*std::max_element(b.begin(), b.end()), 1.5 * b[static_cast<size_t>(least(b))]);
     EXPECT_NE(least(b), 62);
     std::cout << (snapped ? "snapped" : "before the snap") << ": least at " << least(b)
               << ", largest relative difference " << max_difference << "\n";

@@ -149,15 +149,12 @@ TEST(Initializer, TracksAFastSwingFromTheFirstFrame) {
 // below and the native solve a false initialisation at frame 8 (55 points, RMSE 13.8). The
 // run here pins the crash and the message; that a lost initialiser can accept a wrong
 // alignment is a limitation of its acceptance test (docs/status.md), not of either solver.
-// Every point on every level (level_cell_px = 0), as when the outcome was measured: with one
-// point per coarse-level pixel the lost estimate keeps 16 points after ten frames instead.
 TEST(Initializer, WaitsWhenNoPointProjectsAnyMore) {
   const Camera camera = synth::syntheticCamera("pinhole", 90.0, 320, 320);
   const test::RenderedScene scene(camera, 3);
   const SE3d start = scene.centralPose();
   InitializerOptions options;
   options.rotation_search_half_width = 0;
-  options.level_cell_px = 0.0;
   options.native_solver = false;
   Initializer initializer(camera, validityMask(camera), options);
   initializer.setFirstFrame(scene.renderPyramid(start, 4, kBlurSigmaPx), 1.0);

@@ -52,9 +52,11 @@ struct InitializerOptions {
   // On level L ≥ 1 a point enters the level's problem (and the rotation search) only when no
   // earlier point of the first frame's selection falls in the same cell of this many level-L
   // pixels: the ≈ 2 000 level-0 points crowd a coarse level — two and more per pixel of a
-  // 30 × 30 level 4 — where their patterns sample the same pixels and only multiply the work.
-  // 0: every point on every level.
-  double level_cell_px = 1.0;
+  // 30 × 30 level 4 — where their patterns sample the same pixels. 0 (the default): every
+  // point on every level. 1 made D1's initialisation 0.6× as long, but the pinhole crop's
+  // median error was higher in 7 of 8 sequences (docs/performance.md, "Native point
+  // marginalisation; …"): a speed setting, not the default.
+  double level_cell_px = 0.0;
   int frames_after_snap = 0;
   double min_parallax_px = 0.0;        // 0: use 0.01 · (w + h)
   double max_rmse = 15.0;              // intensity units per residual pixel
