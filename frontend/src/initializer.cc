@@ -61,6 +61,24 @@ double Initializer::Impl::parallax(const std::vector<bool>& valid) const {
 }
 
 
+// RMS over the valid points of ∠(b, b + d t): the angle between a point's ray from the first
+// frame and from the current one, the translation alone (InitializerOptions::min_parallax_deg).
+double Initializer::Impl::parallaxAngleDeg(const std::vector<bool>& valid) const {
+  const Eigen::Vector3d t = SE3d::fromParameters(pose.data()).inverse().translation();
+  double sum = 0.0;
+  int n = 0;
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    Eigen::Vector3d b;
+    if (!valid[i] || !camera.unproject(pixels[i], b)) continue;
+    const Eigen::Vector3d moved = b + inverse_distances[i] * t;
+    const double angle = std::atan2(b.cross(moved).norm(), b.dot(moved));
+    sum += angle * angle;
+    ++n;
+  }
+  return n ? std::sqrt(sum / n) * 180.0 / M_PI : 0.0;
+}
+
+
 Initializer::Initializer(const Camera& camera, const Mask& mask, InitializerOptions options)
     : impl_(std::make_unique<Impl>(camera, mask, std::move(options))) {}
 
@@ -140,22 +158,27 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
   }
   solveAllLevels(snapped_before);
   double parallax = impl_->parallax(valid);
-  if (!snapped_before && parallax >= min_parallax) {
+  double angle = impl_->parallaxAngleDeg(valid);
+  auto enough = [&] { return parallax >= min_parallax && angle >= o.min_parallax_deg; };
+  if (!snapped_before && enough()) {
     impl_->snapped_at = impl_->frames_tried;
     solveAllLevels(true);
     parallax = impl_->parallax(valid);
+    angle = impl_->parallaxAngleDeg(valid);
   }
   const int num_valid = static_cast<int>(std::count(valid.begin(), valid.end(), true));
   result.parallax_px = parallax;
+  result.parallax_deg = angle;
   result.rmse = rmse;
   std::ostringstream status;
   status << "after " << impl_->frames_tried << " frames: parallax " << parallax << " px of the "
-         << min_parallax << " px needed, photometric error " << rmse << " (at most "
+         << min_parallax << " px needed, triangulation angle " << angle << "° of the "
+         << o.min_parallax_deg << "° needed, photometric error " << rmse << " (at most "
          << impl_->options.max_rmse << "), " << num_valid << " points";
   if (impl_->snapped_at >= 0) status << ", snapped at frame " << impl_->snapped_at;
   impl_->status = status.str();
   if (impl_->snapped_at < 0 || impl_->frames_tried < impl_->snapped_at + o.frames_after_snap ||
-      !(parallax >= min_parallax) || !(rmse <= o.max_rmse) || num_valid < o.min_points)
+      !enough() || !(rmse <= o.max_rmse) || num_valid < o.min_points)
     return result;
 
   // Scale: mean inverse distance 1 (d' = d/m, t' = m t).

@@ -136,6 +136,7 @@ struct Initializer::Impl {
   double radiansPerPixel() const;
 
   double parallax(const std::vector<bool>& valid) const;
+  double parallaxAngleDeg(const std::vector<bool>& valid) const;
 
   // Runs `work` on `state` in place of the initialiser's own, restored afterwards.
   template <typename Work>

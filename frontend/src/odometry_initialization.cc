@@ -69,8 +69,8 @@ void Odometry::Impl::initialize(FrameRecord& record, std::shared_ptr<const Image
   initialized = true;
   std::ostringstream m;
   m << "segment " << segment << ": initialised at frame " << record.index << " from frame "
-    << first.index << " (parallax " << init.parallax_px << " px, " << window->numPoints()
-    << " points)";
+    << first.index << " (parallax " << init.parallax_px << " px, " << init.parallax_deg << "°, "
+    << window->numPoints() << " points)";
   say(m.str());
 }
 

@@ -258,6 +258,7 @@ InitializationResult initialise(const RenderedPair& pair, bool native, int level
                                 const std::function<SE3d(const SE3d&, int)>& path, int* frames) {
   InitializerOptions options;
   options.native_solver = native;
+  options.min_parallax_deg = 0.0;  // the pixel criterion alone (InitialisesAsWithCeres)
   Initializer init(pair.camera, validityMask(pair.camera), options);
   init.setFirstFrame(pair.scene.renderPyramid(pair.T_world_first, levels, kBlurSigmaPx), 1.0);
   InitializationResult result;
@@ -271,7 +272,11 @@ InitializationResult initialise(const RenderedPair& pair, bool native, int level
 
 // addFrame end to end (the rotation search, every level, the snap, the scale) with each
 // solver: initialiser_test.cc's translation and fast-swing sequences give the same frame
-// count, points and result.
+// count, points and result. With the pixel criterion alone (min_parallax_deg 0): waiting
+// for the triangulation angle the translation sequence runs longer, and at its end one
+// point sits on the validity boundary — kept by one path and not the other (1580 against
+// 1579 points), after which the results differ by 1e-5; the comparison is of the solvers,
+// not of how long the sequence runs.
 TEST(InitializerSolverTest, InitialisesAsWithCeres) {
   const RenderedPair fisheye("ucm", 185.0, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
   const RenderedPair pinhole("pinhole", 90.0, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());

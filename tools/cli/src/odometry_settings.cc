@@ -83,6 +83,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"initializer.level_cell_px", &o.initializer.level_cell_px},
       {"initializer.frames_after_snap", &o.initializer.frames_after_snap},
       {"initializer.min_parallax_px", &o.initializer.min_parallax_px},
+      {"initializer.min_parallax_deg", &o.initializer.min_parallax_deg},
       {"initializer.max_rmse", &o.initializer.max_rmse},
       {"initializer.min_points", &o.initializer.min_points},
       {"initializer.max_frames", &o.initializer.max_frames},

@@ -12,8 +12,9 @@
 // observe them: with a nearly still or purely rotating camera, free distances otherwise fit
 // noise and aliasing and drag the pose away (the error grows frame after frame), and a free
 // translation mimics a rotation through a narrow lens. Once the RMS
-// pixel shift the translation alone causes (parallax) exceeds `min_parallax_px`, the
-// initialiser "snaps" (as DSO's does): λ drops to `regularizer_weight` with d̄ the mean
+// pixel shift the translation alone causes (parallax) exceeds `min_parallax_px` and the RMS
+// angle it turns the points' rays by (the triangulation angle, ∠(b, b + d t)) exceeds
+// `min_parallax_deg`, the initialiser "snaps" (as DSO's does): λ drops to `regularizer_weight` with d̄ the mean
 // inverse distance and the translation free, the frame is solved
 // again, and `frames_after_snap` more frames refine the distances on a growing baseline.
 // Start of each frame: the coarsest level begins at the lowest-cost node of a rotation grid
@@ -59,6 +60,14 @@ struct InitializerOptions {
   double level_cell_px = 0.0;
   int frames_after_snap = 0;
   double min_parallax_px = 0.0;        // 0: use 0.01 · (w + h)
+  // The pixel criterion alone sets the distances' precision in pixels, the same for every
+  // lens. A narrow view needs more: with the rotation taking the mean flow, its tracker reads
+  // the translation from the spread of the distances, so noise in them shortens the steps
+  // (errors in the variables). On a sharp 90° pinhole render of D2's path the pixel criterion
+  // snapped at a 2.5° angle and the first keyframes turned up to 1.3× too far (0.68 % of the
+  // path); at 5° it read 0.010 % (docs/performance.md, "D2's crop: the tracker's short
+  // steps …"). A 480-pixel fisheye reaches 5° at about the pixel criterion. 0: pixels only.
+  double min_parallax_deg = 5.0;
   double max_rmse = 15.0;              // intensity units per residual pixel
   int min_points = 50;
   int max_frames = 60;                 // give up (and restart from a newer frame) after this
@@ -92,6 +101,7 @@ struct InitializationResult {
   std::vector<Eigen::Vector2d> pixels;              // level 0, first frame
   std::vector<double> inverse_distances;
   double parallax_px = 0.0;
+  double parallax_deg = 0.0;  // RMS triangulation angle (min_parallax_deg)
   double rmse = 0.0;
 };
 
