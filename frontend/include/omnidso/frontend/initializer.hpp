@@ -11,12 +11,12 @@
 // r_t = √(λ N) · t over the N points, DSO's α energy) while the baseline is too small to
 // observe them: with a nearly still or purely rotating camera, free distances otherwise fit
 // noise and aliasing and drag the pose away (the error grows frame after frame), and a free
-// translation mimics a rotation through a narrow lens. Once the RMS
-// pixel shift the translation alone causes (parallax) exceeds `min_parallax_px` and the RMS
-// angle it turns the points' rays by (the triangulation angle, ∠(b, b + d t)) exceeds
-// `min_parallax_deg`, the initialiser "snaps" (as DSO's does): λ drops to `regularizer_weight` with d̄ the mean
-// inverse distance and the translation free, the frame is solved
-// again, and `frames_after_snap` more frames refine the distances on a growing baseline.
+// translation mimics a rotation through a narrow lens. Once the RMS pixel shift the
+// translation alone causes (parallax) exceeds `min_parallax_px` and the RMS angle it turns
+// the points' rays by (the triangulation angle, ∠(b, b + d t)) exceeds `min_parallax_deg`,
+// the initialiser "snaps" (as DSO's does): λ drops to `regularizer_weight` with d̄ the mean
+// inverse distance and the translation free, the frame is solved again, and
+// `frames_after_snap` more frames refine the distances on a growing baseline.
 // Start of each frame: the coarsest level begins at the lowest-cost node of a rotation grid
 // around the constant-velocity prediction and around the last pose (rotation_search_*): a
 // fast hand-held swing displaces the coarsest level beyond the alignment's basin.
@@ -66,7 +66,8 @@ struct InitializerOptions {
   // (errors in the variables). On a sharp 90° pinhole render of D2's path the pixel criterion
   // snapped at a 2.5° angle and the first keyframes turned up to 1.3× too far (0.68 % of the
   // path); at 5° it read 0.010 % (docs/performance.md, "D2's crop: the tracker's short
-  // steps …"). A 480-pixel fisheye reaches 5° at about the pixel criterion. 0: pixels only.
+  // steps …"). The development set's 190° fisheyes reach 5° within three frames of the pixel
+  // criterion (room185's 222° one: frame 8 instead of 5). 0: pixels only.
   double min_parallax_deg = 5.0;
   double max_rmse = 15.0;              // intensity units per residual pixel
   int min_points = 50;
