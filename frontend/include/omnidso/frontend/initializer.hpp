@@ -65,9 +65,10 @@ struct InitializerOptions {
   // the translation from the spread of the distances, so noise in them shortens the steps
   // (errors in the variables). On a sharp 90° pinhole render of D2's path the pixel criterion
   // snapped at a 2.5° angle and the first keyframes turned up to 1.3× too far (0.68 % of the
-  // path); at 5° it read 0.010 % (docs/performance.md, "D2's crop: the tracker's short
-  // steps …"). The development set's 190° fisheyes reach 5° within three frames of the pixel
-  // criterion (room185's 222° one: frame 8 instead of 5). 0: pixels only.
+  // path); at 5° it read 0.010–0.018 % over three seeds (docs/performance.md, "The
+  // triangulation angle at the snap"). On the fisheyes the snap comes 0–3 frames later (D1,
+  // hovering near its start: 19; room185: 3), the full image as accurate or more so.
+  // 0: pixels only.
   double min_parallax_deg = 5.0;
   double max_rmse = 15.0;              // intensity units per residual pixel
   int min_points = 50;
