@@ -41,41 +41,27 @@ double Initializer::Impl::radiansPerPixel() const {
 }
 
 
-double Initializer::Impl::parallax(const std::vector<bool>& valid) const {
-  const SE3d T = SE3d::fromParameters(pose.data());
-  double sum = 0.0;
-  int n = 0;
-  for (size_t i = 0; i < pixels.size(); ++i) {
-    if (!valid[i]) continue;
-    Eigen::Vector3d b;
-    Eigen::Vector2d u;
-    // T_world_frame = T_first_frame: the point in the frame is T⁻¹ x; translation only.
-    const SE3d T_frame_first = T.inverse();
-    if (!camera.unproject(pixels[i], b) ||
-        !camera.project(b + inverse_distances[i] * T_frame_first.translation(), u))
-      continue;
-    sum += (u - pixels[i]).squaredNorm();
-    ++n;
-  }
-  return n ? std::sqrt(sum / n) : 0.0;
-}
-
-
-// RMS over the valid points of ∠(b, b + d t): the angle between a point's ray from the first
-// frame and from the current one, the translation alone (InitializerOptions::min_parallax_deg).
-double Initializer::Impl::parallaxAngleDeg(const std::vector<bool>& valid) const {
+// Over the valid points, the translation alone (T_world_frame = T_first_frame: the point in
+// the frame is T⁻¹ x): the RMS pixel shift |π(b + d t) − p| and the RMS angle ∠(b, b + d t)
+// by which it turns the point's ray (InitializerOptions::min_parallax_px, min_parallax_deg).
+Initializer::Impl::Parallax Initializer::Impl::parallax(const std::vector<bool>& valid) const {
   const Eigen::Vector3d t = SE3d::fromParameters(pose.data()).inverse().translation();
-  double sum = 0.0;
-  int n = 0;
+  double sum_px = 0.0, sum_angle = 0.0;
+  int n_px = 0, n_angle = 0;
   for (size_t i = 0; i < pixels.size(); ++i) {
     Eigen::Vector3d b;
     if (!valid[i] || !camera.unproject(pixels[i], b)) continue;
     const Eigen::Vector3d moved = b + inverse_distances[i] * t;
     const double angle = std::atan2(b.cross(moved).norm(), b.dot(moved));
-    sum += angle * angle;
-    ++n;
+    sum_angle += angle * angle;
+    ++n_angle;
+    Eigen::Vector2d u;
+    if (!camera.project(moved, u)) continue;
+    sum_px += (u - pixels[i]).squaredNorm();
+    ++n_px;
   }
-  return n ? std::sqrt(sum / n) * 180.0 / M_PI : 0.0;
+  return {n_px ? std::sqrt(sum_px / n_px) : 0.0,
+          n_angle ? std::sqrt(sum_angle / n_angle) * 180.0 / M_PI : 0.0};
 }
 
 
@@ -157,22 +143,22 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
     impl_->searchRotationStart(levels - 1, frame, exposure, snapped_before, centres);
   }
   solveAllLevels(snapped_before);
-  double parallax = impl_->parallax(valid);
-  double angle = impl_->parallaxAngleDeg(valid);
-  auto enough = [&] { return parallax >= min_parallax && angle >= o.min_parallax_deg; };
+  Impl::Parallax parallax = impl_->parallax(valid);
+  auto enough = [&] {
+    return parallax.px >= min_parallax && parallax.deg >= o.min_parallax_deg;
+  };
   if (!snapped_before && enough()) {
     impl_->snapped_at = impl_->frames_tried;
     solveAllLevels(true);
     parallax = impl_->parallax(valid);
-    angle = impl_->parallaxAngleDeg(valid);
   }
   const int num_valid = static_cast<int>(std::count(valid.begin(), valid.end(), true));
-  result.parallax_px = parallax;
-  result.parallax_deg = angle;
+  result.parallax_px = parallax.px;
+  result.parallax_deg = parallax.deg;
   result.rmse = rmse;
   std::ostringstream status;
-  status << "after " << impl_->frames_tried << " frames: parallax " << parallax << " px of the "
-         << min_parallax << " px needed, triangulation angle " << angle << "° of the "
+  status << "after " << impl_->frames_tried << " frames: parallax " << parallax.px << " px of the "
+         << min_parallax << " px needed, triangulation angle " << parallax.deg << "° of the "
          << o.min_parallax_deg << "° needed, photometric error " << rmse << " (at most "
          << impl_->options.max_rmse << "), " << num_valid << " points";
   if (impl_->snapped_at >= 0) status << ", snapped at frame " << impl_->snapped_at;

@@ -135,8 +135,11 @@ struct Initializer::Impl {
   // Angle between the bearings of the image centre and the pixel beside it.
   double radiansPerPixel() const;
 
-  double parallax(const std::vector<bool>& valid) const;
-  double parallaxAngleDeg(const std::vector<bool>& valid) const;
+  struct Parallax {
+    double px = 0.0;
+    double deg = 0.0;
+  };
+  Parallax parallax(const std::vector<bool>& valid) const;
 
   // Runs `work` on `state` in place of the initialiser's own, restored afterwards.
   template <typename Work>
