@@ -38,7 +38,8 @@ struct SearchScene {
     const Mask mask = validityMask(room.camera);
     for (const SelectedPixel& p : selectPixels(host, mask, PixelSelectorOptions{})) {
       ImmaturePoint point;
-      if (makeImmaturePoint(room.camera, host.level(0), 0, p.pixel.cast<double>(), &point))
+      if (makeImmaturePoint(room.camera, host.level(0), host.gradients(0), 0,
+                            p.pixel.cast<double>(), &point))
         fresh.push_back(point);
     }
   }

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <omnidso/core/interpolation.hpp>
 #include <omnidso/frontend/epipolar_search.hpp>
 #include <omnidso/residuals/residual_pattern.hpp>
@@ -133,6 +134,24 @@ bool sampleWithGradients(const ImageF& image, const ImageGradients& gradients, d
   return true;
 }
 
+// h = σ + e |c| / a of the header comment, at a sample of the curve; infinite when the
+// pattern has no gradient along the curve (the whole curve is then the interval).
+template <typename Sample>
+double intervalHalfWidthPx(const Eigen::Matrix2d& host_structure, const Sample& sample,
+                           const EpipolarSearchOptions& options) {
+  const Eigen::Matrix2d& J = sample.pattern_map;  // host pattern offset → target pixels
+  const double det = J.determinant();
+  if (!(std::abs(det) > 1e-12)) return std::numeric_limits<double>::infinity();
+  const Eigen::Matrix2d J_inv = J.inverse();
+  const Eigen::Matrix2d G = J_inv.transpose() * host_structure * J_inv;
+  const Eigen::Vector2d l = sample.du_ds.normalized();
+  const Eigen::Vector2d n(-l.y(), l.x());
+  const double a = l.dot(G * l);
+  const double c = l.dot(G * n);
+  if (!(a > 0.0)) return std::numeric_limits<double>::infinity();
+  return options.match_sigma_px + options.curve_offset_px * std::abs(c) / a;
+}
+
 template <typename Model>
 TraceResult trace(const Model& model, ImmaturePoint& point, const SE3d& T_target_host,
                   const ImageF& target, const ImageGradients& gradients,
@@ -226,10 +245,11 @@ TraceResult trace(const Model& model, ImmaturePoint& point, const SE3d& T_target
   result.energy = best_it->energy;
   if (point.quality < options.min_quality) return finish(TraceStatus::kBadCondition);
 
-  const double ds = options.match_sigma_px / sample.du_ds.norm();
+  const double half_px = intervalHalfWidthPx(point.host_structure, sample, options);
+  const double ds = half_px / sample.du_ds.norm();
   point.d_min = std::max(0.0, curve.inverseDistance(std::max(0.0, s_best - ds)));
   point.d_max = curve.inverseDistance(std::min(1.0, s_best + ds));
-  point.last_interval_px = 2.0 * options.match_sigma_px;
+  point.last_interval_px = 2.0 * half_px;
   ++point.num_good_traces;
   return finish(TraceStatus::kGood);
 }
@@ -253,7 +273,8 @@ double ImmaturePoint::inverseDistanceEstimate() const {
   return d_min;
 }
 
-bool makeImmaturePoint(const Camera& camera, const ImageF& host_image, int host_id,
+bool makeImmaturePoint(const Camera& camera, const ImageF& host_image,
+                       const ImageGradients& host_gradients, int host_id,
                        const Eigen::Vector2d& pixel, ImmaturePoint* point) {
   ImmaturePoint p;
   p.host_id = host_id;
@@ -263,9 +284,14 @@ bool makeImmaturePoint(const Camera& camera, const ImageF& host_image, int host_
       camera.model());
   if (!ok) return false;
   for (int i = 0; i < kImmaturePatternSize; ++i) {
-    if (!sampleBilinear(host_image, pixel.x() + Pattern::kOffsets[i].du,
-                        pixel.y() + Pattern::kOffsets[i].dv, &p.host_intensity[i]))
+    const double u = pixel.x() + Pattern::kOffsets[i].du;
+    const double v = pixel.y() + Pattern::kOffsets[i].dv;
+    Eigen::Vector2d g;
+    if (!sampleBilinear(host_image, u, v, &p.host_intensity[i]) ||
+        !sampleBilinear(host_gradients.dx, u, v, &g.x()) ||
+        !sampleBilinear(host_gradients.dy, u, v, &g.y()))
       return false;
+    p.host_structure += g * g.transpose();
   }
   *point = p;
   return true;

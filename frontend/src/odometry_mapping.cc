@@ -111,7 +111,8 @@ std::vector<ImmaturePoint> Odometry::Impl::selectCandidates(int id,
   std::vector<ImmaturePoint> list;
   for (const SelectedPixel& p : selectPixels(pyramid, mask, selection)) {
     ImmaturePoint point;
-    if (makeImmaturePoint(camera, pyramid.level(0), id, p.pixel.cast<double>(), &point))
+    if (makeImmaturePoint(camera, pyramid.level(0), pyramid.gradients(0), id,
+                          p.pixel.cast<double>(), &point))
       list.push_back(point);
   }
   return list;

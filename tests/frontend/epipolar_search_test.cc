@@ -1,7 +1,9 @@
 // The epipolar-curve search (paper Sec. V-B) on a rendered fisheye pair with known distances.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <iostream>
+#include <vector>
 
 #include <omnidso/frontend/epipolar_search.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
@@ -34,7 +36,9 @@ SearchStats searchPair(const Camera& camera, const Eigen::Vector3d& baseline) {
   SearchStats stats;
   for (const SelectedPixel& p : pixels) {
     ImmaturePoint point;
-    if (!makeImmaturePoint(camera, host.level(0), 0, p.pixel.cast<double>(), &point)) continue;
+    if (!makeImmaturePoint(camera, host.level(0), host.gradients(0), 0, p.pixel.cast<double>(),
+                           &point))
+      continue;
     const auto rho = scene.distance(T_world_host, point.bearing);
     if (!rho) continue;
     const double d_true = 1.0 / *rho;
@@ -85,7 +89,8 @@ TEST(EpipolarSearch, PureRotationHasNothingToSearch) {
   const SE3d T = scene.centralPose();
   const ImagePyramid target(scene.render(test::moveInCamera(T, {0, 0, 0}, {0, 3, 0})), 2);
   ImmaturePoint point;
-  ASSERT_TRUE(makeImmaturePoint(camera, target.level(0), 0, {80, 80}, &point));
+  ASSERT_TRUE(
+      makeImmaturePoint(camera, target.level(0), target.gradients(0), 0, {80, 80}, &point));
   const SE3d rotation_only = test::moveInCamera(SE3d(), {0, 0, 0}, {0, 3, 0}).inverse();
   const TraceResult r = traceImmaturePoint(point, camera, rotation_only, target.level(0),
                                            target.gradients(0), AffineTransfer{},
@@ -93,6 +98,121 @@ TEST(EpipolarSearch, PureRotationHasNothingToSearch) {
   EXPECT_EQ(r.status, TraceStatus::kSkipped);
   EXPECT_EQ(point.d_min, 0.0);
   EXPECT_TRUE(std::isinf(point.d_max));
+}
+
+// A fronto-parallel plane at depth z_plane textured with straight stripes,
+// I = 128 + 60 sin(2π (x cos α + y sin α) / 36) in the host's pixels (x, y): every gradient points
+// along (cos α, sin α), at the angle α to a horizontal epipolar line. The target camera sits
+// 0.05 m to the right; its image is rendered through the camera model, so the pair is exact.
+struct StripedPlanePair {
+  Camera camera = synth::syntheticCamera("pinhole", 90.0, 320, 240);
+  double z_plane = 1.0;
+  SE3d T_target_host = SE3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.05, 0.0, 0.0));
+  ImagePyramid host, target;
+
+  explicit StripedPlanePair(double alpha_deg)
+      : host(render(alpha_deg, SE3d()), 2), target(render(alpha_deg, T_target_host), 2) {}
+
+  ImageF render(double alpha_deg, const SE3d& T_cam_host) const {
+    const double alpha = alpha_deg * M_PI / 180.0;
+    const SE3d T_host_cam = T_cam_host.inverse();
+    ImageF image(camera.width(), camera.height());
+    for (int v = 0; v < image.height(); ++v)
+      for (int u = 0; u < image.width(); ++u) {
+        Eigen::Vector3d b;
+        if (!camera.unproject(Eigen::Vector2d(u, v), b)) continue;
+        const Eigen::Vector3d c = T_host_cam.translation();
+        const Eigen::Vector3d r = T_host_cam.rotationMatrix() * b;
+        const Eigen::Vector3d x = c + r * ((z_plane - c.z()) / r.z());  // on the plane
+        Eigen::Vector2d uh;
+        if (!camera.project(x, uh)) continue;
+        image(u, v) = static_cast<float>(
+            128.0 + 60.0 * std::sin(2.0 * M_PI *
+                                    (uh.x() * std::cos(alpha) + uh.y() * std::sin(alpha)) / 36.0));
+      }
+    return image;
+  }
+};
+
+struct OffsetTrace {
+  bool good = false;
+  bool interval_holds_truth = false;
+  double along_error_px = 0.0;  // match − truth, horizontal
+  double interval_px = 0.0;
+};
+
+// Searches host pixel (u, v) on a curve moved offset_px down across itself: the tracked pose's
+// rotation about the x axis is off by offset_px / f.
+OffsetTrace traceWithOffset(const StripedPlanePair& pair, int u, int v, double offset_px,
+                            const EpipolarSearchOptions& options) {
+  OffsetTrace out;
+  ImmaturePoint point;
+  if (!makeImmaturePoint(pair.camera, pair.host.level(0), pair.host.gradients(0), 0, {u, v},
+                         &point))
+    return out;
+  const double d_true = point.bearing.z() / pair.z_plane;  // 1 / ‖x‖ on the plane
+  Eigen::Vector2d u_true;
+  EXPECT_TRUE(pair.camera.project(pair.T_target_host * (point.bearing / d_true), u_true));
+  const double f = pair.camera.params()[0];  // fx
+  const SE3d searched =
+      SE3d(Eigen::Quaterniond(Eigen::AngleAxisd(-offset_px / f, Eigen::Vector3d::UnitX())),
+           Eigen::Vector3d::Zero()) *
+      pair.T_target_host;
+  const TraceResult r = traceImmaturePoint(point, pair.camera, searched, pair.target.level(0),
+                                           pair.target.gradients(0), AffineTransfer{}, options);
+  out.good = r.status == TraceStatus::kGood;
+  out.interval_holds_truth = point.d_min <= d_true && d_true <= point.d_max;
+  out.along_error_px = r.match.x() - u_true.x();
+  out.interval_px = point.last_interval_px;
+  return out;
+}
+
+const std::vector<Eigen::Vector2i> kStripePixels = {{150, 110}, {160, 120}, {172, 128}, {140, 135}};
+
+// Stripes at α = 60° to the curve and the curve 1 px off: the best match lies e tan α = 1.73 px
+// along the curve from the truth (header comment: δ = −(c / a) ε). The interval must widen to
+// σ + e tan α and so still hold the true distance; σ alone (curve_offset_px = 0) misses it.
+TEST(EpipolarSearch, IntervalWidensWhenTheGradientCrossesTheCurve) {
+  const StripedPlanePair pair(60.0);
+  EpipolarSearchOptions options;
+  ASSERT_EQ(options.curve_offset_px, 1.0);
+  const double offset_px = options.curve_offset_px;
+  const double tan_alpha = std::tan(60.0 * M_PI / 180.0);
+  for (const Eigen::Vector2i& p : kStripePixels) {
+    SCOPED_TRACE(testing::Message() << "pixel " << p.transpose());
+    const OffsetTrace t = traceWithOffset(pair, p.x(), p.y(), offset_px, options);
+    ASSERT_TRUE(t.good);
+    // the geometry of the offset, to the sub-pixel refinement's and the difference gradients'
+    // few hundredths of a pixel
+    EXPECT_NEAR(std::abs(t.along_error_px), offset_px * tan_alpha, 0.1);
+    // 2 (σ + e tan α'), α' the angle of the central differences' gradient (1.71 for 1.73)
+    EXPECT_NEAR(t.interval_px, 2.0 * (options.match_sigma_px + offset_px * tan_alpha), 0.1);
+    EXPECT_TRUE(t.interval_holds_truth);
+
+    EpipolarSearchOptions sigma_only = options;
+    sigma_only.curve_offset_px = 0.0;
+    const OffsetTrace narrow = traceWithOffset(pair, p.x(), p.y(), offset_px, sigma_only);
+    ASSERT_TRUE(narrow.good);
+    EXPECT_DOUBLE_EQ(narrow.interval_px, 2.0 * options.match_sigma_px);
+    EXPECT_FALSE(narrow.interval_holds_truth) << "the test's offset no longer shows the error";
+  }
+}
+
+// Gradients along the curve (α = 0): an offset across it moves nothing, and the interval keeps
+// the matching uncertainty alone — up to the small angle at which the search's pattern map (a
+// patch facing the host, J_o) shows the plane's stripes: |c| / a ≈ |t_x| |v − c_y| / f ≤ 0.005
+// at these pixels, so the interval is 2σ within 0.02 px.
+TEST(EpipolarSearch, IntervalStaysNarrowWhenTheGradientFollowsTheCurve) {
+  const StripedPlanePair pair(0.0);
+  const EpipolarSearchOptions options;
+  for (const Eigen::Vector2i& p : kStripePixels) {
+    SCOPED_TRACE(testing::Message() << "pixel " << p.transpose());
+    const OffsetTrace t = traceWithOffset(pair, p.x(), p.y(), options.curve_offset_px, options);
+    ASSERT_TRUE(t.good);
+    EXPECT_NEAR(t.along_error_px, 0.0, 0.05);
+    EXPECT_NEAR(t.interval_px, 2.0 * options.match_sigma_px, 0.02);
+    EXPECT_TRUE(t.interval_holds_truth);
+  }
 }
 
 }  // namespace

@@ -64,6 +64,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"epipolar.huber", &o.epipolar.huber},
       {"epipolar.gn_iterations", &o.epipolar.gn_iterations},
       {"epipolar.match_sigma_px", &o.epipolar.match_sigma_px},
+      {"epipolar.curve_offset_px", &o.epipolar.curve_offset_px},
       {"keyframe_decision.weight_flow_t", &o.keyframe_decision.weight_flow_t},
       {"keyframe_decision.weight_flow_rt", &o.keyframe_decision.weight_flow_rt},
       {"keyframe_decision.weight_affine", &o.keyframe_decision.weight_affine},

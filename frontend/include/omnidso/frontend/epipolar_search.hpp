@@ -18,7 +18,17 @@
 //   J_o = ∂π/∂x (p_L(s)) · c_b R · ∂b/∂u    (the pattern's image in the target),
 // is evaluated (Huber γ). The best step must beat the best one farther than 2 px from it by
 // `min_quality` (DSO's ratio); Gauss–Newton on s then refines it to sub-pixel, and the interval
-// becomes d(s* ± σ δs), σ the matching uncertainty in pixels.
+// becomes d(s* ± h δs), h pixels along the curve:
+//   h = σ + e |c| / a,   a = lᵀ G l,  c = lᵀ G n,   G = J_o⁻ᵀ G_i J_o⁻¹,
+// σ the matching uncertainty (`match_sigma_px`), l and n the unit tangent and normal of the
+// curve at the match, G_i = Σ_o ∇I_i ∇I_iᵀ the host pattern's structure tensor and G its image
+// in the target. Why: the tracked pose and the calibration are not exact, so the true curve
+// lies some e pixels (`curve_offset_px`) across the one searched. Matching the pattern
+// E(δ l + ε n) ≈ [δ ε] G [δ ε]ᵀ at a fixed offset ε puts the minimum at δ = −(c / a) ε: an
+// offset turns into an error along the curve of tan α per pixel for a texture whose gradient
+// makes the angle α with it (the geometric error DSO's search also bounds). Without this term
+// such a match is as confident as a well-conditioned one and is activated at a wrong distance
+// (docs/performance.md, "The search's interval from the pattern's gradients").
 
 #include <Eigen/Core>
 #include <array>
@@ -47,6 +57,8 @@ struct ImmaturePoint {
   Eigen::Vector3d bearing = Eigen::Vector3d::UnitZ();
   Eigen::Matrix<double, 3, 2> d_bearing_d_uv = Eigen::Matrix<double, 3, 2>::Zero();
   std::array<double, kImmaturePatternSize> host_intensity{};
+  // G_i = Σ_o ∇I_i(p + o) ∇I_i(p + o)ᵀ over the pattern, in host pixels (header comment).
+  Eigen::Matrix2d host_structure = Eigen::Matrix2d::Zero();
   double d_min = 0.0;                                       // inverse distance (far end)
   double d_max = std::numeric_limits<double>::infinity();   // (near end)
   double quality = 0.0;                                     // second-best / best energy
@@ -58,9 +70,11 @@ struct ImmaturePoint {
   double inverseDistanceEstimate() const;
 };
 
-// Creates an immature point at a level-0 pixel of a keyframe; false when the pixel does not
-// unproject or its pattern leaves the host image.
-bool makeImmaturePoint(const Camera& camera, const ImageF& host_image, int host_id,
+// Creates an immature point at a level-0 pixel of a keyframe (host_gradients: the host image's,
+// as ImagePyramid::gradients(0)); false when the pixel does not unproject or its pattern leaves
+// the host image.
+bool makeImmaturePoint(const Camera& camera, const ImageF& host_image,
+                       const ImageGradients& host_gradients, int host_id,
                        const Eigen::Vector2d& pixel, ImmaturePoint* point);
 
 struct EpipolarSearchOptions {
@@ -71,7 +85,11 @@ struct EpipolarSearchOptions {
   double outlier_energy_per_pixel = 12.0 * 12.0;
   double huber = 9.0;
   int gn_iterations = 3;
-  double match_sigma_px = 0.75;   // half-width of the new interval, pixels along the curve
+  double match_sigma_px = 0.75;   // σ: the new interval's half-width for a well-conditioned match
+  // e: how far the true curve may lie across the searched one, pixels (header comment). 1 px:
+  // on the development set's crops 0.25 / 0.5 / 1 / 2 px gave D3 medians 0.73 / 0.60 / 0.43 /
+  // 0.42 % (0: 1.30 %); docs/performance.md.
+  double curve_offset_px = 1.0;
   int max_domain_skips = 400;     // bounded walk over segments outside the model's domain
 };
 
