@@ -1,11 +1,14 @@
-// The epipolar-curve search (paper Sec. V-B) on a rendered fisheye pair with known distances.
+// The epipolar-curve search (paper Sec. V-B) on a rendered fisheye pair with known distances,
+// and its interval on a striped plane whose stripes cross the curve at a known angle.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <iostream>
 #include <vector>
 
+#include <omnidso/core/error.hpp>
 #include <omnidso/frontend/epipolar_search.hpp>
+#include <omnidso/frontend/odometry.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
 #include <omnidso/synth/synthetic_sequence.hpp>
 
@@ -213,6 +216,22 @@ TEST(EpipolarSearch, IntervalStaysNarrowWhenTheGradientFollowsTheCurve) {
     EXPECT_NEAR(t.interval_px, 2.0 * options.match_sigma_px, 0.02);
     EXPECT_TRUE(t.interval_holds_truth);
   }
+}
+
+// A negative offset would shrink the interval below σ, and past zero turn it inside out: the
+// odometry refuses it, naming the setting.
+TEST(EpipolarSearch, OdometryRefusesANegativeCurveOffset) {
+  const Camera camera = synth::syntheticCamera("pinhole", 90.0, 320, 240);
+  OdometryOptions options;
+  options.epipolar.curve_offset_px = -1.0;
+  try {
+    Odometry odometry(camera, options);
+    FAIL() << "accepted curve_offset_px = -1";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("curve_offset_px"), std::string::npos) << e.what();
+  }
+  options.epipolar.curve_offset_px = 0.0;  // the fixed interval: allowed
+  EXPECT_NO_THROW(Odometry(camera, options));
 }
 
 }  // namespace
