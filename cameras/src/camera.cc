@@ -157,6 +157,12 @@ bool Camera::hasDistortion() const {
                     model_);
 }
 
+bool Camera::distortsImages() const {
+  if (!hasDistortion()) return false;
+  const Eigen::VectorXd p = params();
+  return (p.tail<4>().array() != 0.0).any();  // [base..., k1, k2, p1, p2]
+}
+
 Camera Camera::undistortedModel() const {
   return std::visit(
       [this](const auto& m) -> Camera {

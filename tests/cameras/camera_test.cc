@@ -144,8 +144,18 @@ TEST(CameraTest, PyramidLevelScalesIntrinsicsAndSize) {
 TEST(CameraTest, DistortionAndUndistortedModel) {
   const Camera raw = Camera::create("ucm-radtan", everyModel()[6].params, 640, 480);
   EXPECT_TRUE(raw.hasDistortion());
+  EXPECT_TRUE(raw.distortsImages());
   const Camera base = raw.undistortedModel();
   EXPECT_FALSE(base.hasDistortion());
+  EXPECT_FALSE(base.distortsImages());
+  // Zero coefficients (as some calibration files write them): the same images as the base's.
+  Eigen::VectorXd zero_params = raw.params();
+  zero_params.tail<4>().setZero();
+  const Camera zero = Camera::create("ucm-radtan", zero_params, 640, 480);
+  EXPECT_TRUE(zero.hasDistortion());
+  EXPECT_FALSE(zero.distortsImages());
+  zero_params[zero_params.size() - 1] = 1e-4;  // any non-zero coefficient (p2)
+  EXPECT_TRUE(Camera::create("ucm-radtan", zero_params, 640, 480).distortsImages());
   EXPECT_EQ(base.modelName(), "ucm");
   EXPECT_EQ(base.params(), raw.params().head(5));
   EXPECT_EQ(base.width(), 640);

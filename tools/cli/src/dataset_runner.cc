@@ -62,7 +62,7 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
   if (crop_fov) camera = pinholeForFov(*crop_fov, source.width(), source.height());
   std::optional<RectificationMap> rectification;
   Mask image_mask;
-  if (crop_fov || source.hasDistortion()) {
+  if (crop_fov || source.distortsImages()) {
     rectification = makeRectificationMap(source, camera);
     image_mask = validMask(*rectification);
   }

@@ -75,6 +75,9 @@ class Camera {
 
   // True for the radial–tangential variants (raw images that rectification undistorts).
   bool hasDistortion() const;
+  // True for a radial–tangential variant with a non-zero coefficient: only then do its images
+  // differ from undistortedModel()'s (a calibration that writes zeros needs no rectification).
+  bool distortsImages() const;
   // The distortion-free base model with the same size (pinhole-radtan → pinhole,
   // ucm-radtan → ucm); a copy of *this when there is no distortion.
   Camera undistortedModel() const;
