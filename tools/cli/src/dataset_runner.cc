@@ -54,6 +54,21 @@ std::optional<double> parsePinholeCrop(const std::string& text) {
               text + "'");
 }
 
+bool exposureTimesKnown(const DatasetIndex& index) {
+  return !index.frames.empty() &&
+         std::all_of(index.frames.begin(), index.frames.end(),
+                     [](const DatasetFrame& f) { return f.exposure_ms > 0; });
+}
+
+std::string applyPhotometricMode(const DatasetIndex& index, OdometryOptions* options) {
+  if (exposureTimesKnown(index)) return "";
+  options->window.affine_prior_weight_a = 0.0;
+  options->window.affine_prior_weight_b = 0.0;
+  return "no exposure times: each keyframe's affine brightness is left free (DSO's "
+         "uncalibrated mode; --set window.affine_prior_weight_a=1e8 "
+         "--set window.affine_prior_weight_b=1e6 ties it to 0 as with exposure times)";
+}
+
 DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptions& options) {
   const Camera source = synth::datasetCamera(index, options.calib);
   const std::optional<double> crop_fov = parsePinholeCrop(options.camera_model);

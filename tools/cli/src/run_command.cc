@@ -94,6 +94,7 @@ void runOdometry(const RunArguments& args) {
                                                : defaultComputeThreads();
   options.playback_speed = args.playback_speed;
   options.prefetch = !args.no_prefetch;
+  const std::string photometric_note = applyPhotometricMode(index, &o);  // before the user's
   if (!args.config.empty()) applyOdometryConfigFile(o, args.config);
   for (const std::string& s : args.settings) applyOdometrySettingAssignment(o, s);
   refuseToOverwrite(args.out, args.force);  // after every option has been checked
@@ -105,6 +106,10 @@ void runOdometry(const RunArguments& args) {
       if (done % 10 == 0 || done == total) printProgress(done, total, odometry);
     };
   const DatasetRun run = runOdometryOnDataset(index, options);
+  // After the run, so that a bad input still gets its one line of error and nothing else.
+  if (!photometric_note.empty() && o.window.affine_prior_weight_a == 0.0 &&
+      o.window.affine_prior_weight_b == 0.0)
+    std::cerr << "note: " << photometric_note << "\n";
   const Odometry& odometry = *run.odometry;
   const size_t total = run.frames_processed;
   RunDescription description;

@@ -126,7 +126,8 @@ struct WindowOptions {
   int min_residuals_per_point = 1;
   double huber_threshold = kDsoHuberThreshold;
   // affine_prior.hpp: every keyframe's [a, b] tied to 0 (calibrated photometry, as DSO);
-  // 0 frees a parameter (uncalibrated data).
+  // 0 frees a parameter (DSO's uncalibrated mode, which `omnidso run` chooses for data without
+  // exposure times: cli::applyPhotometricMode).
   double affine_prior_weight_a = 1e8;
   double affine_prior_weight_b = 1e6;
   double gradient_weight_c = kDsoGradientWeightC;

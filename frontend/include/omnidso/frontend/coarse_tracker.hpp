@@ -52,7 +52,10 @@ struct CoarseTrackerOptions {
   // exposure times and response (DSO's photometric mode) the brightness model needs no
   // correction, so DSO ties them almost rigidly: a free (a, b) otherwise absorbs the
   // contrast loss of bilinear interpolation at high-gradient pixels (a few percent, a < 0).
-  // Weights in energy per unit²; set both to 0 for uncalibrated data (exposure unknown).
+  // Weights in energy per unit². The guess is the previous frame's [a, b], so without exposure
+  // times the tie is one of smoothness between consecutive frames and stays (freeing it too
+  // lost D2's tracking in one of three seeds: docs/performance.md, "Without exposure times");
+  // it is the window's tie to 0 that such data drops (cli::applyPhotometricMode).
   double affine_prior_weight_a = 1e8;
   double affine_prior_weight_b = 1e6;
   // Solve each level with the native Levenberg–Marquardt solver (tracker_solver.hpp) instead

@@ -53,4 +53,19 @@ std::optional<double> parseNativeFov(const std::string& camera_model);
 
 DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptions& options);
 
+// True when every frame's exposure time is given (times.txt's third column in the TUM layout;
+// the ASL layout records none).
+bool exposureTimesKnown(const DatasetIndex& index);
+
+// DSO's two photometric modes, chosen by the data. With exposure times the brightness from
+// keyframe to keyframe is t_j/t_i, so the window ties every keyframe's affine [a, b] to 0
+// (WindowOptions::affine_prior_weight_*; DSO's calibrated mode). Without them it is the
+// camera's auto-exposure, which only the affine model can explain: a tie to 0 asserts that
+// every keyframe had the same exposure (a 2.5× change over the development set's MAV path),
+// so the window's ties are dropped (DSO's uncalibrated mode). The tracker's and initialiser's
+// priors stay: they tie a frame to the previous frame's brightness or the segment's first,
+// not to 0. Call it before the user's settings so that they can override it. Returns a note
+// for the user when it changed the options, else "".
+std::string applyPhotometricMode(const DatasetIndex& index, OdometryOptions* options);
+
 }  // namespace omnidso::cli

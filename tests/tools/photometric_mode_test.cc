@@ -1,0 +1,114 @@
+// DSO's photometric modes chosen by the data (cli::applyPhotometricMode): with every frame's
+// exposure time the window ties each keyframe's affine brightness to 0; without them the ties
+// go (auto-exposure is what the affine model must explain), and the user's settings still win.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include <omnidso/cli/dataset_runner.hpp>
+#include <omnidso/cli/process_pool.hpp>
+#include <omnidso/synth/dataset_writer.hpp>
+
+#include "synth_test_util.hpp"
+
+namespace omnidso::cli {
+namespace {
+namespace fs = std::filesystem;
+
+DatasetIndex indexWithExposures(std::vector<double> exposures_ms) {
+  DatasetIndex index;
+  for (size_t i = 0; i < exposures_ms.size(); ++i) {
+    DatasetFrame f;
+    f.id = std::to_string(i);
+    f.timestamp_s = 0.05 * static_cast<double>(i);
+    f.exposure_ms = exposures_ms[i];
+    index.frames.push_back(f);
+  }
+  return index;
+}
+
+TEST(PhotometricMode, ExposureTimesKeepTheWindowsTies) {
+  OdometryOptions options;
+  const OdometryOptions defaults;
+  EXPECT_TRUE(exposureTimesKnown(indexWithExposures({6.4, 6.5, 15.7})));
+  EXPECT_EQ(applyPhotometricMode(indexWithExposures({6.4, 6.5, 15.7}), &options), "");
+  EXPECT_EQ(options.window.affine_prior_weight_a, defaults.window.affine_prior_weight_a);
+  EXPECT_EQ(options.window.affine_prior_weight_b, defaults.window.affine_prior_weight_b);
+  EXPECT_GT(options.window.affine_prior_weight_a, 0.0);
+}
+
+TEST(PhotometricMode, WithoutExposureTimesTheWindowsBrightnessIsFree) {
+  OdometryOptions options;
+  const OdometryOptions defaults;
+  const std::string note = applyPhotometricMode(indexWithExposures({0, 0, 0}), &options);
+  EXPECT_NE(note.find("no exposure times"), std::string::npos) << note;
+  EXPECT_EQ(options.window.affine_prior_weight_a, 0.0);
+  EXPECT_EQ(options.window.affine_prior_weight_b, 0.0);
+  // The tracker's and the initialiser's ties (to the previous frame, to the segment's first)
+  // stay.
+  EXPECT_EQ(options.tracker.affine_prior_weight_a, defaults.tracker.affine_prior_weight_a);
+  EXPECT_EQ(options.initializer.affine_prior_weight_a, defaults.initializer.affine_prior_weight_a);
+}
+
+TEST(PhotometricMode, OneMissingExposureTimeMakesThemUnknown) {
+  // dataset_runner feeds an unknown exposure as 1 ms: next to known ones the exposure ratio
+  // would be wrong by orders of magnitude, so only the free affine model can be trusted.
+  EXPECT_FALSE(exposureTimesKnown(indexWithExposures({6.4, 0, 6.5})));
+  EXPECT_FALSE(exposureTimesKnown(DatasetIndex{}));
+}
+
+// As `omnidso run` applies it: the mode is in summary.json's settings, and --set overrides it.
+TEST(PhotometricMode, RunRecordsTheModeAndTheUsersSettingWins) {
+  test::TempDir tmp("photometric_mode");
+  const fs::path data = tmp.path() / "data";
+  synth::SyntheticSequence sequence(test::smallSequenceConfig(3));
+  synth::writeSyntheticDataset(sequence, data.string());
+  // Drop times.txt's exposure column (comment lines stay).
+  std::ifstream in(data / "times.txt");
+  std::stringstream stripped;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') {
+      stripped << line << "\n";
+      continue;
+    }
+    std::istringstream fields(line);
+    std::string id, stamp;
+    fields >> id >> stamp;
+    stripped << id << " " << stamp << "\n";
+  }
+  in.close();
+  std::ofstream(data / "times.txt") << stripped.str();
+
+  auto run = [&](const std::string& name, std::vector<std::string> extra) {
+    ProcessSpec spec;
+    spec.argv = {OMNIDSO_EXECUTABLE, "run", data.string(), "--out", (tmp.path() / name).string(),
+                 "--quiet"};
+    spec.argv.insert(spec.argv.end(), extra.begin(), extra.end());
+    spec.log_path = (tmp.path() / (name + ".log")).string();
+    spec.timeout_s = 120;
+    const ProcessOutcome outcome = runProcesses({spec}, 1).front();
+    std::ifstream log(spec.log_path);
+    const std::string output((std::istreambuf_iterator<char>(log)), {});
+    EXPECT_TRUE(outcome.succeeded()) << name << ": " << outcome.describe() << "\n" << output;
+    const nlohmann::json summary =
+        nlohmann::json::parse(std::ifstream(tmp.path() / name / "summary.json"));
+    return std::make_pair(summary.at("settings").at("odometry"), output);
+  };
+  const auto [free, free_log] = run("free", {});
+  EXPECT_EQ(free.at("window.affine_prior_weight_a").get<double>(), 0.0);
+  EXPECT_EQ(free.at("window.affine_prior_weight_b").get<double>(), 0.0);
+  EXPECT_NE(free_log.find("no exposure times"), std::string::npos) << free_log;
+  const auto [tied, tied_log] =
+      run("tied", {"--set", "window.affine_prior_weight_a=1e8", "--set",
+                   "window.affine_prior_weight_b=1e6"});
+  EXPECT_EQ(tied.at("window.affine_prior_weight_a").get<double>(), 1e8);
+  EXPECT_EQ(tied.at("window.affine_prior_weight_b").get<double>(), 1e6);
+  EXPECT_EQ(tied_log.find("no exposure times"), std::string::npos) << tied_log;
+}
+
+}  // namespace
+}  // namespace omnidso::cli
