@@ -182,6 +182,22 @@ double PhotometricCalibration::response(double irradiance) const {
   return (k - 1) + (irradiance - g[k - 1]) / (g[k] - g[k - 1]);
 }
 
+std::array<float, kResponseSize> PhotometricCalibration::responseSlopeTable() const {
+  const auto& g = inverse_response_;
+  auto rise = [&](int k) { return g[k + 1] - g[k]; };  // G⁻¹ on segment [k, k + 1]
+  std::array<float, kResponseSize> slope{};
+  for (int e = 0; e < kResponseSize; ++e) {
+    int k = std::clamp(static_cast<int>(response(e)), 0, kResponseSize - 2);
+    // A flat stretch (G⁻¹ non-decreasing): the nearest rising segment, upward first.
+    for (int step = 1; rise(k) <= 0.0 && step < kResponseSize; ++step) {
+      if (k + step <= kResponseSize - 2 && rise(k + step) > 0.0) k += step;
+      else if (k - step >= 0 && rise(k - step) > 0.0) k -= step;
+    }
+    slope[e] = static_cast<float>(1.0 / rise(k));
+  }
+  return slope;
+}
+
 void PhotometricCalibration::checkImageSize(int width, int height) const {
   if (!hasVignette()) return;
   if (vignette_.width() != width || vignette_.height() != height) {

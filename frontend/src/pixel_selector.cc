@@ -20,6 +20,34 @@ Image<float> gradientNormImage(const ImageGradients& g) {
   return out;
 }
 
+// ‖∇E‖ → ‖∇I‖ ≈ G′(V E) V ‖∇E‖ (PixelSelectorOptions::response_slope, vignette_levels).
+void weightByEncoding(const ImageF& intensity, int level, const PixelSelectorOptions& options,
+                      Image<float>* norm) {
+  const bool response = options.response_slope.size() == 256;
+  const ImageF* vignette = nullptr;
+  if (options.vignette_levels && level < static_cast<int>(options.vignette_levels->size())) {
+    vignette = &(*options.vignette_levels)[static_cast<size_t>(level)];
+    if (vignette->width() != intensity.width() || vignette->height() != intensity.height())
+      throw Error("selectPixels: the vignette of level " + std::to_string(level) + " is " +
+                  std::to_string(vignette->width()) + "x" + std::to_string(vignette->height()) +
+                  ", the image " + std::to_string(intensity.width()) + "x" +
+                  std::to_string(intensity.height()));
+  }
+  if (!response && !vignette) return;
+  float* n = norm->data();
+  const float* e = intensity.data();
+  const float* v = vignette ? vignette->data() : nullptr;
+  for (size_t i = 0; i < norm->size(); ++i) {
+    const float attenuation = v ? v[i] : 1.f;
+    const float raw_energy = attenuation * e[i];  // V E, the response's argument
+    const float slope =
+        response ? options.response_slope[static_cast<size_t>(
+                       std::clamp(static_cast<int>(raw_energy + 0.5f), 0, 255))]
+                 : 1.f;
+    n[i] *= slope * attenuation;
+  }
+}
+
 struct Candidate {
   int u = -1, v = -1;
   float score = -1.f;
@@ -221,8 +249,10 @@ std::vector<SelectedPixel> selectPixels(const ImagePyramid& pyramid, const Mask&
   for (size_t i = 0; i < usable.size(); ++i) valid += usable.data()[i] != 0;
   if (valid == 0) return {};
   std::vector<Image<float>> norms;
-  for (int level = 0; level < std::min(3, pyramid.numLevels()); ++level)
+  for (int level = 0; level < std::min(3, pyramid.numLevels()); ++level) {
     norms.push_back(gradientNormImage(pyramid.gradients(level)));
+    if (options.camera_encoding) weightByEncoding(pyramid.level(level), level, options, &norms.back());
+  }
   const Image<float> thresholds = gradientThresholdMap(
       norms[0], mask, options.threshold_block_size, options.gradient_threshold_offset);
   const Selector selector(pyramid, norms, usable, thresholds, options);

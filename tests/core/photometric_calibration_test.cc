@@ -78,6 +78,29 @@ TEST(PhotometricCalibration, ResponseInvertsInverseResponse) {
   EXPECT_EQ(calib.response(1e6), 255.0);
 }
 
+// responseSlopeTable: G′(E) = 1 / (G⁻¹ rise on the segment holding G(E)). Against the exact
+// derivative of the gamma-like table, 1 / (G⁻¹)′(I) at I = G(E): a secant over one pixel value
+// of a convex G⁻¹ differs from its tangent by at most (G⁻¹)″/(G⁻¹)′ ≈ 1.2 / I relatively
+// (for the power 2.2), so the tolerance is 1.3 / I.
+TEST(PhotometricCalibration, ResponseSlopeIsTheResponsesDerivative) {
+  const PhotometricCalibration calib(gammaInverseResponse(), ImageF());
+  const auto slope = calib.responseSlopeTable();
+  for (int e = 2; e < 256; ++e) {
+    const double i = calib.response(e);
+    // G⁻¹(k) = 255 (k/255)^2.2 + k/255 → (G⁻¹)′(k) = 2.2 (k/255)^1.2 + 1/255.
+    const double exact = 1.0 / (2.2 * std::pow(i / 255.0, 1.2) + 1.0 / 255.0);
+    EXPECT_NEAR(slope[e], exact, exact * 1.3 / std::max(i, 1.0)) << "E = " << e;
+  }
+  const auto identity = PhotometricCalibration().responseSlopeTable();
+  for (float s : identity) EXPECT_EQ(s, 1.f);
+  // A flat stretch of G⁻¹ (k = 1..19 all 0) borrows the nearest rising segment's slope.
+  InverseResponse flat = gammaInverseResponse();
+  for (int k = 1; k < 20; ++k) flat[k] = 0.0;
+  const auto with_flat = PhotometricCalibration(flat, ImageF()).responseSlopeTable();
+  for (float s : with_flat) EXPECT_TRUE(std::isfinite(s) && s > 0.f);
+  EXPECT_FLOAT_EQ(with_flat[0], static_cast<float>(1.0 / (flat[20] - flat[19])));
+}
+
 TEST(PhotometricCalibration, IdentityDefaults) {
   const PhotometricCalibration calib = PhotometricCalibration::fromFiles("", "");
   EXPECT_FALSE(calib.hasVignette());

@@ -2,11 +2,14 @@
 // pixel must satisfy, the count, and determinism.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <iostream>
 #include <limits>
 #include <random>
 #include <set>
 #include <omnidso/core/error.hpp>
+#include <omnidso/core/photometric_calibration.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
 #include <omnidso/synth/synthetic_sequence.hpp>
 
@@ -185,6 +188,92 @@ TEST(PixelSelector, ThresholdMapBitIdenticalToTheReference) {
 TEST(PixelSelector, MaskOfAnotherSizeIsAnError) {
   const SelectionScene s;
   EXPECT_THROW(selectPixels(s.pyramid, Mask(10, 10, 255), PixelSelectorOptions{}), Error);
+}
+
+
+// PixelSelectorOptions::response_slope. A gamma-encoded camera's dark half and bright half
+// with the same raw texture (±25 grey values about 60 and 180): in the corrected, linear
+// intensities E = G⁻¹(I) the bright half's gradients are ≈ 4× the dark half's (G⁻¹′ ∝
+// I^1.2), and the threshold's constant offset (7) is then a larger share of the dark half's
+// median gradient, so the dark half gets fewer pixels. Weighted by G′(E), the tests read the
+// raw gradients, alike on both halves: the selection splits evenly up to the texture's
+// realisation and the random directions (DSO's gammaWeightsPixelSelect).
+TEST(PixelSelector, TheResponsesSlopeSelectsAsInTheCamerasEncoding) {
+  InverseResponse gamma;
+  for (int k = 0; k < kResponseSize; ++k) gamma[k] = 255.0 * std::pow(k / 255.0, 2.2);
+  const PhotometricCalibration calib(gamma, ImageF());
+  const int w = 256, h = 128;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> texture(-25.0, 25.0);
+  std::vector<double> blocks((w / 3 + 1) * (h / 3 + 1));
+  for (double& b : blocks) b = texture(rng);
+  ImageF corrected(w, h);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const double raw = (u < w / 2 ? 60.0 : 180.0) + blocks[(v / 3) * (w / 3 + 1) + u / 3];
+      corrected(u, v) = static_cast<float>(calib.inverseResponse(raw));
+    }
+  const ImagePyramid pyramid(corrected, 3);
+  PixelSelectorOptions options;
+  options.desired_points = 600;
+  auto darkShare = [&](const PixelSelectorOptions& o) {
+    const std::vector<SelectedPixel> selected = selectPixels(pyramid, Mask(), o);
+    EXPECT_GT(selected.size(), 400u);
+    double dark = 0;
+    for (const SelectedPixel& p : selected) dark += p.pixel.x() < w / 2;
+    return dark / static_cast<double>(selected.size());
+  };
+  const double linear = darkShare(options);
+  const auto slope = calib.responseSlopeTable();
+  options.response_slope.assign(slope.begin(), slope.end());
+  EXPECT_EQ(darkShare(options), linear);  // off by default: the table alone changes nothing
+  options.camera_encoding = true;  // the setting `selection.camera_encoding=true`
+  const double encoded = darkShare(options);
+  std::cout << "dark half's share: linear " << linear << ", camera's encoding " << encoded << "\n";
+  EXPECT_NEAR(encoded, 0.5, 0.1);
+  EXPECT_LT(linear, encoded - 0.1);
+}
+
+
+// The vignette's part of the camera's encoding, ‖∇I‖ ≈ G′(V E) V ‖∇E‖ with G the identity: the
+// same corrected texture behind a vignette of 0.25 on the left and 1 on the right reached the
+// sensor at a quarter of the contrast on the left, so fewer pixels are selected there than
+// on ∇E alone, where the halves are alike; a vignette of another size is refused.
+TEST(PixelSelector, TheVignettesAttenuationCountsInTheCamerasEncoding) {
+  const int w = 256, h = 128;
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> texture(60.0, 140.0);
+  std::vector<double> blocks((w / 3 + 1) * (h / 3 + 1));
+  for (double& b : blocks) b = texture(rng);
+  ImageF corrected(w, h), vignette(w, h);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      corrected(u, v) = static_cast<float>(blocks[(v / 3) * (w / 3 + 1) + (u % (w / 2)) / 3]);
+      vignette(u, v) = u < w / 2 ? 0.25f : 1.f;
+    }
+  const ImagePyramid pyramid(corrected, 3);
+  const ImagePyramid vignette_pyramid(vignette, 3);
+  auto levels = std::make_shared<std::vector<ImageF>>();
+  for (int l = 0; l < 3; ++l) levels->push_back(vignette_pyramid.level(l));
+  PixelSelectorOptions options;
+  options.desired_points = 600;
+  auto leftShare = [&](const PixelSelectorOptions& o) {
+    const std::vector<SelectedPixel> selected = selectPixels(pyramid, Mask(), o);
+    double left = 0;
+    for (const SelectedPixel& p : selected) left += p.pixel.x() < w / 2;
+    return left / static_cast<double>(selected.size());
+  };
+  const double plain = leftShare(options);
+  options.vignette_levels = levels;
+  options.camera_encoding = true;
+  const double encoded = leftShare(options);
+  std::cout << "left half's share: on the corrected image " << plain << ", camera's encoding "
+            << encoded << "\n";
+  EXPECT_NEAR(plain, 0.5, 0.1);
+  EXPECT_LT(encoded, plain - 0.1);
+  auto wrong = std::make_shared<std::vector<ImageF>>(1, ImageF(w / 2, h));
+  options.vignette_levels = wrong;
+  EXPECT_THROW(selectPixels(pyramid, Mask(), options), Error);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/image_io.hpp>
 #include <omnidso/core/photometric_calibration.hpp>
+#include <omnidso/core/pyramid.hpp>
 #include <omnidso/core/timing.hpp>
 #include <omnidso/synth/dataset_loading.hpp>
 
@@ -112,7 +113,26 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
       index.pcalib_path.value_or(""), index.vignette_path.value_or(""));
   if (photometric.hasVignette()) photometric.checkImageSize(source.width(), source.height());
 
-  DatasetRun run{source, camera, std::make_unique<Odometry>(camera, options.odometry, image_mask)};
+  // Pixels are selected by their gradient in the camera's encoding (pixel_selector.hpp): the
+  // response's slope, and the vignette on the odometry's image grid and selection levels.
+  OdometryOptions odometry_options = options.odometry;
+  PixelSelectorOptions& selection = odometry_options.initializer.selection;
+  const std::array<float, kResponseSize> slope = photometric.responseSlopeTable();
+  if (std::any_of(slope.begin(), slope.end(), [](float s) { return s != 1.f; }))
+    selection.response_slope.assign(slope.begin(), slope.end());
+  if (photometric.hasVignette()) {
+    const ImageF vignette =
+        rectification ? remap(photometric.vignette(), *rectification) : photometric.vignette();
+    int num_levels = 1;  // the selector reads levels 0–2, as far as the image allows
+    while (num_levels < 3 && (vignette.width() >> num_levels) >= ImagePyramid::kMinCoarsestSize &&
+           (vignette.height() >> num_levels) >= ImagePyramid::kMinCoarsestSize)
+      ++num_levels;
+    const ImagePyramid levels(vignette, num_levels);
+    auto shared = std::make_shared<std::vector<ImageF>>();
+    for (int l = 0; l < levels.numLevels(); ++l) shared->push_back(levels.level(l));
+    selection.vignette_levels = std::move(shared);
+  }
+  DatasetRun run{source, camera, std::make_unique<Odometry>(camera, odometry_options, image_mask)};
   if (options.retired_point_sink) run.odometry->setRetiredPointSink(options.retired_point_sink);
   const size_t total = options.max_frames > 0 ? std::min(index.frames.size(), options.max_frames)
                                               : index.frames.size();

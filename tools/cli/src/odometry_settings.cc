@@ -94,6 +94,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"selection.gradient_threshold_offset", &o.initializer.selection.gradient_threshold_offset},
       {"selection.coarser_level_factor", &o.initializer.selection.coarser_level_factor},
       {"selection.border", &o.initializer.selection.border},
+      {"selection.camera_encoding", &o.initializer.selection.camera_encoding},
   };
 }
 
