@@ -113,14 +113,16 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
       index.pcalib_path.value_or(""), index.vignette_path.value_or(""));
   if (photometric.hasVignette()) photometric.checkImageSize(source.width(), source.height());
 
-  // Pixels are selected by their gradient in the camera's encoding (pixel_selector.hpp): the
-  // response's slope, and the vignette on the odometry's image grid and selection levels.
+  // With `selection.camera_encoding` the selector tests gradients in the camera's encoding
+  // (pixel_selector.hpp): it needs the response's slope, and the vignette on the odometry's
+  // image grid and selection levels.
   OdometryOptions odometry_options = options.odometry;
   PixelSelectorOptions& selection = odometry_options.initializer.selection;
   const std::array<float, kResponseSize> slope = photometric.responseSlopeTable();
-  if (std::any_of(slope.begin(), slope.end(), [](float s) { return s != 1.f; }))
+  if (selection.camera_encoding &&
+      std::any_of(slope.begin(), slope.end(), [](float s) { return s != 1.f; }))
     selection.response_slope.assign(slope.begin(), slope.end());
-  if (photometric.hasVignette()) {
+  if (selection.camera_encoding && photometric.hasVignette()) {
     const ImageF vignette =
         rectification ? remap(photometric.vignette(), *rectification) : photometric.vignette();
     int num_levels = 1;  // the selector reads levels 0–2, as far as the image allows

@@ -48,7 +48,7 @@ struct PixelSelectorOptions {
 struct SelectedPixel {
   Eigen::Vector2i pixel;  // level 0
   int level = 0;          // pyramid level whose pass selected it (0, 1 or 2)
-  float gradient = 0.f;   // ‖∇I‖ at level 0 as the thresholds read it (response_slope)
+  float gradient = 0.f;   // ‖∇I‖ at level 0 as the thresholds read it (camera_encoding)
 };
 
 // `mask`: level-0 validity (non-zero = valid); an empty mask means the whole image. A pixel is
