@@ -61,7 +61,8 @@ TEST(PhotometricMode, OneMissingExposureTimeMakesThemUnknown) {
   EXPECT_FALSE(exposureTimesKnown(DatasetIndex{}));
 }
 
-// As `omnidso run` applies it: the mode is in summary.json's settings, and --set overrides it.
+// As `omnidso run` applies it: the mode and the photometric files used are in summary.json's
+// settings, and --set overrides the mode.
 TEST(PhotometricMode, RunRecordsTheModeAndTheUsersSettingWins) {
   test::TempDir tmp("photometric_mode");
   const fs::path data = tmp.path() / "data";
@@ -96,6 +97,12 @@ TEST(PhotometricMode, RunRecordsTheModeAndTheUsersSettingWins) {
     EXPECT_TRUE(outcome.succeeded()) << name << ": " << outcome.describe() << "\n" << output;
     const nlohmann::json summary =
         nlohmann::json::parse(std::ifstream(tmp.path() / name / "summary.json"));
+    // What the run had to work with: no exposure times, the rendered pcalib.txt and vignette.
+    const nlohmann::json& photometric = summary.at("settings").at("photometric");
+    EXPECT_FALSE(photometric.at("exposure_times").get<bool>());
+    EXPECT_EQ(fs::path(photometric.at("inverse_response").get<std::string>()).filename(),
+              "pcalib.txt");
+    EXPECT_EQ(fs::path(photometric.at("vignette").get<std::string>()).filename(), "vignette.png");
     return std::make_pair(summary.at("settings").at("odometry"), output);
   };
   const auto [free, free_log] = run("free", {});

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fstream>
 #include <map>
+#include <omnidso/cli/dataset_runner.hpp>
 #include <omnidso/cli/run_outputs.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/metrics.hpp>
@@ -129,6 +130,14 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
                    {"compute_threads", d.compute_threads},
                    {"residuals", d.residuals},
                    {"odometry", d.settings}};
+  // What the photometric model had to work with (dataset_runner.hpp, applyPhotometricMode):
+  // the calibration files used (null: absent) and whether every frame had an exposure time.
+  auto pathOrNull = [](const std::optional<std::string>& p) {
+    return p ? nlohmann::json(*p) : nlohmann::json(nullptr);
+  };
+  s["settings"]["photometric"] = {{"exposure_times", exposureTimesKnown(index)},
+                                  {"inverse_response", pathOrNull(index.pcalib_path)},
+                                  {"vignette", pathOrNull(index.vignette_path)}};
   s["counts"] = {{"frames", d.frames_processed},
                  {"tracked_frames", all_frames.size()},
                  {"keyframes", all_keyframes.size()},
