@@ -287,9 +287,8 @@ bool makeImmaturePoint(const Camera& camera, const ImageF& host_image,
     const double u = pixel.x() + Pattern::kOffsets[i].du;
     const double v = pixel.y() + Pattern::kOffsets[i].dv;
     Eigen::Vector2d g;
-    if (!sampleBilinear(host_image, u, v, &p.host_intensity[i]) ||
-        !sampleBilinear(host_gradients.dx, u, v, &g.x()) ||
-        !sampleBilinear(host_gradients.dy, u, v, &g.y()))
+    if (!sampleWithGradients(host_image, host_gradients, u, v, nullptr, &p.host_intensity[i],
+                             &g.x(), &g.y()))
       return false;
     p.host_structure += g * g.transpose();
   }

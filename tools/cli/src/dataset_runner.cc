@@ -118,10 +118,11 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
   // image grid and selection levels.
   OdometryOptions odometry_options = options.odometry;
   PixelSelectorOptions& selection = odometry_options.initializer.selection;
-  const std::array<float, kResponseSize> slope = photometric.responseSlopeTable();
-  if (selection.camera_encoding &&
-      std::any_of(slope.begin(), slope.end(), [](float s) { return s != 1.f; }))
-    selection.response_slope.assign(slope.begin(), slope.end());
+  if (selection.camera_encoding) {
+    const std::array<float, kResponseSize> slope = photometric.responseSlopeTable();
+    if (std::any_of(slope.begin(), slope.end(), [](float s) { return s != 1.f; }))
+      selection.response_slope.assign(slope.begin(), slope.end());
+  }
   if (selection.camera_encoding && photometric.hasVignette()) {
     const ImageF vignette =
         rectification ? remap(photometric.vignette(), *rectification) : photometric.vignette();
