@@ -44,7 +44,7 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
   const std::unique_ptr<InverseDistanceResiduals> residuals = factory_->makeInverseDistanceResiduals(
       intrinsics_,
       makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(0), pixel,
-                                        options_.gradient_weight_c),
+                                        options_.gradient_weight_c, host.pyramid->encodingSlope(0)),
       host.pose.data(), host.affine.data(), host.exposure, targets);
   out.num_targets = residuals->numTargets();
   double d = inverse_distance;

@@ -58,7 +58,8 @@ std::optional<WindowObservation> SlidingWindow::observation(const WindowPoint& p
                                 pixelToLevel(point.pixel.y(), level));
     if (!hostPatchFits(image, pixel)) return std::nullopt;
     obs.host = makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(level), pixel,
-                                                 options_.gradient_weight_c);
+                                                 options_.gradient_weight_c,
+                                                 host.pyramid->encodingSlope(level));
   }
   obs.target_image = &target.pyramid->level(level);
   obs.target_content = target.pyramid->content(level);
@@ -137,7 +138,8 @@ int SlidingWindow::addPoint(int host_id, const Eigen::Vector2d& pixel, double in
   point->pixel = pixel;
   point->inverse_distance = inverse_distance;
   point->patch = makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(0), pixel,
-                                                   options_.gradient_weight_c);
+                                                   options_.gradient_weight_c,
+                                                   host.pyramid->encodingSlope(0));
   problem_->AddParameterBlock(&point->inverse_distance, 1);
   for (auto& kf : keyframes_)
     if (kf->id != host_id) addResidual(*point, *kf);

@@ -7,8 +7,15 @@
 
 namespace omnidso {
 
+struct ImagePyramid::EncodingSlopes {
+  std::shared_ptr<const CameraEncoding> encoding;
+  std::vector<ImageF> levels;
+  std::unique_ptr<std::once_flag[]> once;
+};
+
 ImagePyramid::ImagePyramid(ImageF level0, int num_levels,
-                           std::shared_ptr<const std::vector<Mask>> content)
+                           std::shared_ptr<const std::vector<Mask>> content,
+                           std::shared_ptr<const CameraEncoding> encoding)
     : content_(std::move(content)) {
   if (num_levels < 1) {
     throw Error("ImagePyramid: number of levels must be at least 1, got " +
@@ -33,6 +40,14 @@ ImagePyramid::ImagePyramid(ImageF level0, int num_levels,
   levels_.push_back(std::move(level0));
   for (int l = 1; l < num_levels; ++l) levels_.push_back(downsample2x2(levels_.back()));
   for (const ImageF& level : levels_) gradients_.push_back(computeGradients(level));
+  if (encoding && !encoding->linear()) {
+    for (int l = 0; l < num_levels; ++l)
+      encoding->checkLevel(levels_[l].width(), levels_[l].height(), l);
+    encoding_slopes_ = std::make_shared<EncodingSlopes>();
+    encoding_slopes_->encoding = std::move(encoding);
+    encoding_slopes_->levels.resize(static_cast<size_t>(num_levels));
+    encoding_slopes_->once = std::make_unique<std::once_flag[]>(static_cast<size_t>(num_levels));
+  }
   if (content_) {
     if (static_cast<int>(content_->size()) < num_levels)
       throw Error("ImagePyramid: " + std::to_string(content_->size()) +
@@ -52,6 +67,15 @@ const Mask* ImagePyramid::content(int index) const {
   if (!content_) return nullptr;
   level(index);  // range check
   return &(*content_)[index];
+}
+
+const ImageF* ImagePyramid::encodingSlope(int index) const {
+  level(index);  // range check
+  if (!encoding_slopes_) return nullptr;
+  EncodingSlopes& e = *encoding_slopes_;
+  const size_t l = static_cast<size_t>(index);
+  std::call_once(e.once[l], [&] { e.levels[l] = e.encoding->slope(levels_[l], index); });
+  return &e.levels[l];
 }
 
 const ImageF& ImagePyramid::level(int index) const {

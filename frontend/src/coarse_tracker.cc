@@ -157,6 +157,12 @@ struct CoarseTracker::Impl {
       for (const auto& [key, acc] : cells) {
         const Eigen::Vector2d pixel(key.second, key.first);
         const double d = acc.first / acc.second;
+        // Weighed in E even with `noise_in_encoding` (photometric_residual.hpp): weighed by
+        // the encoding's slope too, the full image of D2 lost its scale (0.02 → 0.9 %) where
+        // the window and the initialiser gained (docs/performance.md, "Residuals weighed in
+        // the camera's encoding"). A likely reason, not measured: the tracker's distances are
+        // held fixed, and their errors shift the target pixel, so its residuals' error grows
+        // with ‖∇E‖ (the gradient weight's model) more than with the sensor's noise.
         const HostPatch<1> patch = makeHostPatch<1>(image, reference->gradients(level), pixel);
         auto obs = makeTrackingObservation<M, 1>(level_model, patch, d);
         if (!obs) continue;

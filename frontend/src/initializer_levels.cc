@@ -86,7 +86,8 @@ Initializer::Impl::LevelProblem Initializer::Impl::buildLevel(int level, const I
     const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
     if (!members[i] || !insideMargin(p, host_image)) continue;
     WindowObservation obs;
-    obs.host = makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p);
+    obs.host = makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p,
+                                                 kDsoGradientWeightC, first->encodingSlope(level));
     obs.target_image = &frame.level(level);
     obs.target_content = frame.content(level);
     obs.host_exposure = first_exposure;
@@ -185,7 +186,9 @@ Initializer::Impl::NativeLevel Initializer::Impl::buildNativeLevel(int level,
   for (size_t i = 0; i < pixels.size(); ++i) {
     const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
     if (!members[i] || !insideMargin(p, host_image)) continue;
-    if (patches.addIfValid(makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p),
+    if (patches.addIfValid(makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p,
+                                                             kDsoGradientWeightC,
+                                                             first->encodingSlope(level)),
                            inverse_distances[i]))
       nl.points.push_back(i);
   }

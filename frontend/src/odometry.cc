@@ -114,7 +114,10 @@ const FrameRecord& Odometry::addFrame(const ImageF& image, double timestamp, dou
   s.frames.push_back(record);
   FrameRecord& current = s.frames.back();
   auto pyramid =
-      std::make_shared<const ImagePyramid>(image, s.options.pyramid_levels, s.content_levels);
+      std::make_shared<const ImagePyramid>(image, s.options.pyramid_levels, s.content_levels,
+                                           s.options.noise_in_encoding
+                                               ? s.options.camera_encoding
+                                               : nullptr);
   Stopwatch watch;
   if (!s.initialized) {
     s.initialize(current, pyramid, exposure);

@@ -20,32 +20,14 @@ Image<float> gradientNormImage(const ImageGradients& g) {
   return out;
 }
 
-// ‖∇E‖ → ‖∇I‖ ≈ G′(V E) V ‖∇E‖ (PixelSelectorOptions::response_slope, vignette_levels).
+// ‖∇E‖ → ‖∇I‖ ≈ G′(V E) V ‖∇E‖ (PixelSelectorOptions::encoding).
 void weightByEncoding(const ImageF& intensity, int level, const PixelSelectorOptions& options,
                       Image<float>* norm) {
-  const bool response = options.response_slope.size() == 256;
-  const ImageF* vignette = nullptr;
-  if (options.vignette_levels && level < static_cast<int>(options.vignette_levels->size())) {
-    vignette = &(*options.vignette_levels)[static_cast<size_t>(level)];
-    if (vignette->width() != intensity.width() || vignette->height() != intensity.height())
-      throw Error("selectPixels: the vignette of level " + std::to_string(level) + " is " +
-                  std::to_string(vignette->width()) + "x" + std::to_string(vignette->height()) +
-                  ", the image " + std::to_string(intensity.width()) + "x" +
-                  std::to_string(intensity.height()));
-  }
-  if (!response && !vignette) return;
+  if (!options.encoding || options.encoding->linear()) return;
+  const ImageF slope = options.encoding->slope(intensity, level);
   float* n = norm->data();
-  const float* e = intensity.data();
-  const float* v = vignette ? vignette->data() : nullptr;
-  for (size_t i = 0; i < norm->size(); ++i) {
-    const float attenuation = v ? v[i] : 1.f;
-    const float raw_energy = attenuation * e[i];  // V E, the response's argument
-    const float slope =
-        response ? options.response_slope[static_cast<size_t>(
-                       std::clamp(static_cast<int>(raw_energy + 0.5f), 0, 255))]
-                 : 1.f;
-    n[i] *= slope * attenuation;
-  }
+  const float* s = slope.data();
+  for (size_t i = 0; i < norm->size(); ++i) n[i] *= s[i];
 }
 
 struct Candidate {

@@ -31,7 +31,8 @@ const char* toString(PhotometricStatus status) {
 
 template <int N>
 HostPatch<N> makeHostPatch(const ImageF& host_image, const ImageGradients& host_gradients,
-                           const Eigen::Vector2d& pixel, double gradient_weight_c) {
+                           const Eigen::Vector2d& pixel, double gradient_weight_c,
+                           const ImageF* encoding_slope) {
   HostPatch<N> patch;
   patch.pixel = pixel;
   const double c_sq = gradient_weight_c * gradient_weight_c;
@@ -39,26 +40,31 @@ HostPatch<N> makeHostPatch(const ImageF& host_image, const ImageGradients& host_
   for (int o = 0; o < N; ++o) {
     const double u = pixel.x() + pattern[o].du;
     const double v = pixel.y() + pattern[o].dv;
-    double gx = 0.0, gy = 0.0;
+    double gx = 0.0, gy = 0.0, s = 1.0;
     if (!sampleBilinearWithGradient(host_image, u, v, &patch.intensity[o], nullptr, nullptr) ||
         !sampleBilinearWithGradient(host_gradients.dx, u, v, &gx, nullptr, nullptr) ||
-        !sampleBilinearWithGradient(host_gradients.dy, u, v, &gy, nullptr, nullptr)) {
+        !sampleBilinearWithGradient(host_gradients.dy, u, v, &gy, nullptr, nullptr) ||
+        (encoding_slope &&
+         !sampleBilinearWithGradient(*encoding_slope, u, v, &s, nullptr, nullptr))) {
       throw Error("makeHostPatch: pattern pixel (" + std::to_string(u) + ", " + std::to_string(v) +
                   ") of host pixel (" + std::to_string(pixel.x()) + ", " +
                   std::to_string(pixel.y()) + ") lies outside the host image");
     }
-    // w = c² / (c² + ‖∇I_i‖²) (eq. 5); the residual carries √w.
-    patch.sqrt_weight[o] = std::sqrt(c_sq / (c_sq + gx * gx + gy * gy));
+    // w = c² / (c² + ‖∇I_i‖²) (eq. 5); the residual carries √w. In the camera's encoding
+    // (header): r_I = s r_E, ∇I = s ∇E.
+    patch.sqrt_weight[o] =
+        encoding_slope ? s * std::sqrt(c_sq / (c_sq + s * s * (gx * gx + gy * gy)))
+                       : std::sqrt(c_sq / (c_sq + gx * gx + gy * gy));
   }
   return patch;
 }
 
 template HostPatch<1> makeHostPatch<1>(const ImageF&, const ImageGradients&, const Eigen::Vector2d&,
-                                       double);
+                                       double, const ImageF*);
 template HostPatch<5> makeHostPatch<5>(const ImageF&, const ImageGradients&, const Eigen::Vector2d&,
-                                       double);
+                                       double, const ImageF*);
 template HostPatch<8> makeHostPatch<8>(const ImageF&, const ImageGradients&, const Eigen::Vector2d&,
-                                       double);
+                                       double, const ImageF*);
 
 ceres::LossFunction* makePhotometricLoss(int pattern_size, double huber_threshold) {
   return new ceres::HuberLoss(huber_threshold * std::sqrt(static_cast<double>(pattern_size)));

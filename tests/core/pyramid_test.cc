@@ -6,6 +6,7 @@
 #include <cstring>
 #include <random>
 #include <tuple>
+#include <vector>
 
 #include "omnidso/core/error.hpp"
 #include "support/reference_image_preparation.hpp"
@@ -105,6 +106,34 @@ TEST(ImagePyramid, LevelOutOfRangeThrows) {
   const ImagePyramid pyramid(ImageF(16, 16), 2);
   EXPECT_THROW(pyramid.level(2), Error);
   EXPECT_THROW(pyramid.gradients(-1), Error);
+}
+
+// With the camera's encoding the pyramid keeps s = ∂I/∂E of every level, as
+// CameraEncoding::slope computes it from that level; without, none.
+TEST(ImagePyramid, KeepsTheEncodingsSlopeOfEveryLevel) {
+  const ImageF image = rampImage(64, 48, 1.5f, 2.f);
+  EXPECT_EQ(ImagePyramid(image, 3).encodingSlope(1), nullptr);
+  std::vector<float> slope(256);
+  for (int k = 0; k < 256; ++k) slope[k] = 2.f - k / 256.f;
+  ImageF vignette(64, 48);
+  for (int v = 0; v < 48; ++v)
+    for (int u = 0; u < 64; ++u) vignette(u, v) = 1.f - 0.01f * u;
+  const auto encoding = std::make_shared<const CameraEncoding>(slope, vignette);
+  const ImagePyramid pyramid(image, 3, nullptr, encoding);
+  for (int l = 0; l < 3; ++l) {
+    const ImageF expected = encoding->slope(pyramid.level(l), l);
+    const ImageF* kept = pyramid.encodingSlope(l);
+    ASSERT_NE(kept, nullptr);
+    ASSERT_EQ(kept->size(), expected.size());
+    EXPECT_EQ(std::memcmp(kept->data(), expected.data(), expected.size() * sizeof(float)), 0);
+  }
+  EXPECT_THROW(pyramid.encodingSlope(3), Error);
+  // A linear encoding keeps nothing: the residuals then weigh as without one.
+  const auto linear = std::make_shared<const CameraEncoding>(std::vector<float>(), ImageF());
+  EXPECT_EQ(ImagePyramid(image, 3, nullptr, linear).encodingSlope(0), nullptr);
+  // A vignette of another size is refused when the pyramid is made, not at first use.
+  const auto wrong = std::make_shared<const CameraEncoding>(slope, ImageF(32, 48, 1.f));
+  EXPECT_THROW(ImagePyramid(image, 3, nullptr, wrong), Error);
 }
 
 }  // namespace

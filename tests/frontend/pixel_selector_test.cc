@@ -191,7 +191,7 @@ TEST(PixelSelector, MaskOfAnotherSizeIsAnError) {
 }
 
 
-// PixelSelectorOptions::response_slope. A gamma-encoded camera's dark half and bright half
+// PixelSelectorOptions::encoding, the response's part. A gamma-encoded camera's dark half and bright half
 // with the same raw texture (±25 grey values about 60 and 180): in the corrected, linear
 // intensities E = G⁻¹(I) the bright half's gradients are ≈ 4× the dark half's (G⁻¹′ ∝
 // I^1.2), and the threshold's constant offset (7) is then a larger share of the dark half's
@@ -225,7 +225,8 @@ TEST(PixelSelector, TheResponsesSlopeSelectsAsInTheCamerasEncoding) {
   };
   const double linear = darkShare(options);
   const auto slope = calib.responseSlopeTable();
-  options.response_slope.assign(slope.begin(), slope.end());
+  options.encoding =
+      std::make_shared<CameraEncoding>(std::vector<float>(slope.begin(), slope.end()), ImageF());
   EXPECT_EQ(darkShare(options), linear);  // off by default: the table alone changes nothing
   options.camera_encoding = true;  // the setting `selection.camera_encoding=true`
   const double encoded = darkShare(options);
@@ -252,9 +253,6 @@ TEST(PixelSelector, TheVignettesAttenuationCountsInTheCamerasEncoding) {
       vignette(u, v) = u < w / 2 ? 0.25f : 1.f;
     }
   const ImagePyramid pyramid(corrected, 3);
-  const ImagePyramid vignette_pyramid(vignette, 3);
-  auto levels = std::make_shared<std::vector<ImageF>>();
-  for (int l = 0; l < 3; ++l) levels->push_back(vignette_pyramid.level(l));
   PixelSelectorOptions options;
   options.desired_points = 600;
   auto leftShare = [&](const PixelSelectorOptions& o) {
@@ -264,15 +262,14 @@ TEST(PixelSelector, TheVignettesAttenuationCountsInTheCamerasEncoding) {
     return left / static_cast<double>(selected.size());
   };
   const double plain = leftShare(options);
-  options.vignette_levels = levels;
+  options.encoding = std::make_shared<CameraEncoding>(std::vector<float>(), vignette);
   options.camera_encoding = true;
   const double encoded = leftShare(options);
   std::cout << "left half's share: on the corrected image " << plain << ", camera's encoding "
             << encoded << "\n";
   EXPECT_NEAR(plain, 0.5, 0.1);
   EXPECT_LT(encoded, plain - 0.1);
-  auto wrong = std::make_shared<std::vector<ImageF>>(1, ImageF(w / 2, h));
-  options.vignette_levels = wrong;
+  options.encoding = std::make_shared<CameraEncoding>(std::vector<float>(), ImageF(w / 2, h, 1.f));
   EXPECT_THROW(selectPixels(pyramid, Mask(), options), Error);
 }
 

@@ -113,27 +113,22 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
       index.pcalib_path.value_or(""), index.vignette_path.value_or(""));
   if (photometric.hasVignette()) photometric.checkImageSize(source.width(), source.height());
 
-  // With `selection.camera_encoding` the selector tests gradients in the camera's encoding
-  // (pixel_selector.hpp): it needs the response's slope, and the vignette on the odometry's
-  // image grid and selection levels.
+  // The camera's encoding (camera_encoding.hpp) on the odometry's image grid: the residuals'
+  // weights (`noise_in_encoding`) and, with `selection.camera_encoding`, pixel selection.
   OdometryOptions odometry_options = options.odometry;
-  PixelSelectorOptions& selection = odometry_options.initializer.selection;
-  if (selection.camera_encoding) {
-    const std::array<float, kResponseSize> slope = photometric.responseSlopeTable();
-    if (std::any_of(slope.begin(), slope.end(), [](float s) { return s != 1.f; }))
-      selection.response_slope.assign(slope.begin(), slope.end());
-  }
-  if (selection.camera_encoding && photometric.hasVignette()) {
-    const ImageF vignette =
-        rectification ? remap(photometric.vignette(), *rectification) : photometric.vignette();
-    int num_levels = 1;  // the selector reads levels 0–2, as far as the image allows
-    while (num_levels < 3 && (vignette.width() >> num_levels) >= ImagePyramid::kMinCoarsestSize &&
-           (vignette.height() >> num_levels) >= ImagePyramid::kMinCoarsestSize)
-      ++num_levels;
-    const ImagePyramid levels(vignette, num_levels);
-    auto shared = std::make_shared<std::vector<ImageF>>();
-    for (int l = 0; l < levels.numLevels(); ++l) shared->push_back(levels.level(l));
-    selection.vignette_levels = std::move(shared);
+  if (odometry_options.noise_in_encoding || odometry_options.initializer.selection.camera_encoding) {
+    const std::array<float, kResponseSize> table = photometric.responseSlopeTable();
+    std::vector<float> slope;
+    if (std::any_of(table.begin(), table.end(), [](float s) { return s != 1.f; }))
+      slope.assign(table.begin(), table.end());
+    ImageF vignette;
+    if (photometric.hasVignette())
+      vignette = rectification ? remap(photometric.vignette(), *rectification) : photometric.vignette();
+    if (!slope.empty() || !vignette.empty()) {
+      auto encoding = std::make_shared<const CameraEncoding>(std::move(slope), vignette);
+      odometry_options.camera_encoding = encoding;
+      odometry_options.initializer.selection.encoding = encoding;
+    }
   }
   DatasetRun run{source, camera, std::make_unique<Odometry>(camera, odometry_options, image_mask)};
   if (options.retired_point_sink) run.odometry->setRetiredPointSink(options.retired_point_sink);

@@ -5,8 +5,10 @@
 // times.
 
 #include <memory>
+#include <mutex>
 #include <vector>
 
+#include "omnidso/core/camera_encoding.hpp"
 #include "omnidso/core/image.hpp"
 #include "omnidso/core/image_ops.hpp"
 
@@ -37,19 +39,29 @@ class ImagePyramid {
   // content (optional): where each level has image content (contentPyramid of
   // content_mask.hpp; at least num_levels masks of the levels' sizes), shared by every
   // frame of a camera; the residuals reject target samples that leave it.
+  // encoding (optional): the camera's encoding of the levels' intensities
+  // (camera_encoding.hpp), whose slope s = ∂I/∂E each level then offers (encodingSlope).
+  // Throws omnidso::Error if its vignette does not fit the levels.
   explicit ImagePyramid(ImageF level0, int num_levels = kDefaultNumLevels,
-                        std::shared_ptr<const std::vector<Mask>> content = nullptr);
+                        std::shared_ptr<const std::vector<Mask>> content = nullptr,
+                        std::shared_ptr<const CameraEncoding> encoding = nullptr);
 
   int numLevels() const { return static_cast<int>(levels_.size()); }
   const ImageF& level(int index) const;
   const ImageGradients& gradients(int index) const;
   // The content mask of a level, or nullptr when the whole image is content.
   const Mask* content(int index) const;
+  // s = ∂I/∂E of a level (CameraEncoding::slope), or nullptr without an encoding (or with a
+  // linear one). Computed on first use, once, from any thread: only the frames that host
+  // residuals (keyframes, the initialiser's first frame) ever need it.
+  const ImageF* encodingSlope(int index) const;
 
  private:
   std::vector<ImageF> levels_;
   std::vector<ImageGradients> gradients_;
   std::shared_ptr<const std::vector<Mask>> content_;
+  struct EncodingSlopes;  // the encoding, the levels' slopes and their once-flags
+  std::shared_ptr<EncodingSlopes> encoding_slopes_;  // null without an encoding
 };
 
 }  // namespace omnidso

@@ -17,6 +17,7 @@
 #include <memory>
 #include <omnidso/backend/sliding_window.hpp>
 #include <omnidso/cameras/camera.hpp>
+#include <omnidso/core/camera_encoding.hpp>
 #include <omnidso/frontend/coarse_tracker.hpp>
 #include <omnidso/frontend/epipolar_search.hpp>
 #include <omnidso/frontend/initializer.hpp>
@@ -44,6 +45,17 @@ struct OdometryOptions {
   // as samples outside the image are (core/content_mask.hpp, contentPyramid). false: only
   // the image rectangle and the model's domain bound them (an ablation).
   bool reject_targets_outside_content = true;
+  // How the camera encodes the frames' corrected intensities (camera_encoding.hpp): the
+  // response's slope and the vignette on the odometry's grid, from the dataset's photometric
+  // calibration (null: linear). With `noise_in_encoding` every frame's pyramid offers
+  // s = ∂I/∂E, and the residuals of the initialiser, the window and activation weigh each
+  // pattern pixel by it (photometric_residual.hpp, makeHostPatch): right when the camera's
+  // noise is uniform in its encoding rather than in E. The tracker's are not weighed
+  // (coarse_tracker.cc says why). Off by default: it depends on where the camera adds its
+  // noise, and a sensor adds most of it before the response (docs/performance.md, "Residuals
+  // weighed in the camera's encoding"). Without a photometric calibration it changes nothing.
+  std::shared_ptr<const CameraEncoding> camera_encoding;
+  bool noise_in_encoding = false;
   std::uint64_t seed = 0;
   WindowOptions window;
   CoarseTrackerOptions tracker;

@@ -29,10 +29,8 @@ struct PixelSelectorOptions {
   int border = 4;                // pixels kept free at the image border (pattern + footprint)
   int max_adaptation_rounds = 4;
   std::uint64_t seed = 0;
-  // The camera's encoding, I = G(V E) for the corrected intensity E (photometric_calibration.hpp):
-  // G′ at 0..255 (PhotometricCalibration::responseSlopeTable; empty: the identity) and the
-  // vignette V on levels 0, 1, 2 of the odometry's image (empty: V ≡ 1). With
-  // `camera_encoding` the thresholds of steps 1–2 test ‖∇I‖ ≈ G′(V E) V ‖∇E‖, the gradient in
+  // The camera's encoding, I = G(V E) for the corrected intensity E (camera_encoding.hpp; null:
+  // linear). With `camera_encoding` the thresholds of steps 1–2 test ‖∇I‖ ≈ G′(V E) V ‖∇E‖, the gradient in
   // the camera's own encoding, where its noise is about uniform — as DSO selects (its
   // `gammaWeightsPixelSelect`, with V left out). In the linear intensities the bright half of
   // a gamma-encoded image holds most of the gradient, and the threshold's constant offset
@@ -40,8 +38,7 @@ struct PixelSelectorOptions {
   // The directional scores stay on ∇E. Off by default: on the development set it took D2's
   // crop from 6.2 to 1.4 % but the full image of D3 from 0.032 to 0.093 % (scale drift up to
   // +3.8 %) and D4's from 0.013 to 0.026 %; setting `selection.camera_encoding`.
-  std::vector<float> response_slope;
-  std::shared_ptr<const std::vector<ImageF>> vignette_levels;
+  std::shared_ptr<const CameraEncoding> encoding;
   bool camera_encoding = false;
 };
 

@@ -79,11 +79,21 @@ struct HostPatch {
 };
 
 // Samples the host image and its gradients (bilinear) at p + o. Throws omnidso::Error
-// naming the pixel when a pattern pixel leaves the image.
+// naming the pixel when a pattern pixel leaves the image. The weight is eq. 5's,
+// w = c² / (c² + ‖∇I‖²). With `encoding_slope` (s = ∂I/∂E of the host level,
+// ImagePyramid::encodingSlope) it is read in the camera's encoding, where the sensor's noise
+// is about uniform (camera_encoding.hpp): the residual r_E counts as r_I ≈ s r_E and the
+// gradient as s ∇E, so √w = s · c / √(c² + s² ‖∇E‖²). Without it (nullptr) s = 1, right when
+// the noise is uniform in E. Which holds depends on where the camera adds its noise
+// (camera_encoding.hpp): on the independent renderer's images (noise after a gamma response)
+// weighing by s took D2's 90° crop from 4.2–6.5 % to 0.3–1.1 %; on the own renderer's (noise
+// before the response) it made preset C's full image 8–10× worse (docs/performance.md,
+// "Residuals weighed in the camera's encoding"). Setting `noise_in_encoding`, off.
 template <int N>
 HostPatch<N> makeHostPatch(const ImageF& host_image, const ImageGradients& host_gradients,
                            const Eigen::Vector2d& pixel,
-                           double gradient_weight_c = kDsoGradientWeightC);
+                           double gradient_weight_c = kDsoGradientWeightC,
+                           const ImageF* encoding_slope = nullptr);
 
 // One point observed in one target frame, on pyramid level `level`.
 template <int N>
