@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 
 #include "omnidso/core/error.hpp"
 #include "omnidso/core/image_ops.hpp"

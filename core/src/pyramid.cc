@@ -1,5 +1,7 @@
 #include "omnidso/core/pyramid.hpp"
 
+#include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 

@@ -5,7 +5,6 @@
 // times.
 
 #include <memory>
-#include <mutex>
 #include <vector>
 
 #include "omnidso/core/camera_encoding.hpp"

@@ -81,8 +81,8 @@ struct HostPatch {
 // Samples the host image and its gradients (bilinear) at p + o. Throws omnidso::Error
 // naming the pixel when a pattern pixel leaves the image. The weight is eq. 5's,
 // w = c² / (c² + ‖∇I‖²). With `encoding_slope` (s = ∂I/∂E of the host level,
-// ImagePyramid::encodingSlope) it is read in the camera's encoding, where the sensor's noise
-// is about uniform (camera_encoding.hpp): the residual r_E counts as r_I ≈ s r_E and the
+// ImagePyramid::encodingSlope) it is read in the camera's encoding, where noise added after
+// the response is uniform (camera_encoding.hpp): the residual r_E counts as r_I ≈ s r_E and the
 // gradient as s ∇E, so √w = s · c / √(c² + s² ‖∇E‖²). Without it (nullptr) s = 1, right when
 // the noise is uniform in E. Which holds depends on where the camera adds its noise
 // (camera_encoding.hpp): on the independent renderer's images (noise after a gamma response)
