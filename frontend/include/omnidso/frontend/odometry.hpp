@@ -54,6 +54,9 @@ struct OdometryOptions {
   // (coarse_tracker.cc says why). Off by default: it depends on where the camera adds its
   // noise, and a sensor adds most of it before the response (docs/performance.md, "Residuals
   // weighed in the camera's encoding"). Without a photometric calibration it changes nothing.
+  // The residuals are then in the encoding's units, and so is the initialiser's photometric
+  // error that `initializer.max_rmse` bounds: where the noise comes before the response that
+  // error is larger, and on one such render the initialiser never accepted (17.4 against 15).
   std::shared_ptr<const CameraEncoding> camera_encoding;
   bool noise_in_encoding = false;
   std::uint64_t seed = 0;
