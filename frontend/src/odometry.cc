@@ -37,6 +37,8 @@ Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
   mask = erodeContent(mask, options.content_margin_px);
   if (options.epipolar.max_search_px <= 0)
     options.epipolar.max_search_px = 0.027 * (camera.width() + camera.height());
+  // One camera encoding for residuals and selection (`selection.camera_encoding` reads it).
+  options.initializer.selection.encoding = options.camera_encoding;
   // The search's interval half-width σ + e |c| / a (epipolar_search.hpp) must be positive.
   if (!(options.epipolar.match_sigma_px > 0.0) || !(options.epipolar.curve_offset_px >= 0.0))
     throw Error("Odometry: epipolar.match_sigma_px must be > 0 and epipolar.curve_offset_px >= 0 "

@@ -124,11 +124,9 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
     ImageF vignette;
     if (photometric.hasVignette())
       vignette = rectification ? remap(photometric.vignette(), *rectification) : photometric.vignette();
-    if (!slope.empty() || !vignette.empty()) {
-      auto encoding = std::make_shared<const CameraEncoding>(std::move(slope), vignette);
-      odometry_options.camera_encoding = encoding;
-      odometry_options.initializer.selection.encoding = encoding;
-    }
+    if (!slope.empty() || !vignette.empty())
+      odometry_options.camera_encoding =
+          std::make_shared<const CameraEncoding>(std::move(slope), vignette);
   }
   DatasetRun run{source, camera, std::make_unique<Odometry>(camera, odometry_options, image_mask)};
   if (options.retired_point_sink) run.odometry->setRetiredPointSink(options.retired_point_sink);

@@ -67,8 +67,9 @@ class PhotometricCalibration {
   // G′(E) = dI/dE for corrected intensities E = 0, 1, …, 255 (the units of a G⁻¹ that spans
   // 0..255, as DSO's pcalib.txt does): the reciprocal slope of the piecewise-linear G⁻¹ on the
   // segment that holds G(E) (on a flat stretch, the nearest rising segment's). It maps a
-  // gradient of the corrected image back into the camera's encoding, ∇I ≈ G′(E) ∇E, for pixel
-  // selection (frontend/pixel_selector.hpp). All ones for the identity response.
+  // gradient of the corrected image back into the camera's encoding, ∇I ≈ G′(E) ∇E
+  // (camera_encoding.hpp: pixel selection and residual weights). All ones for the identity
+  // response.
   std::array<float, kResponseSize> responseSlopeTable() const;
 
   // Throws omnidso::Error naming the vignette if it exists and its size differs.

@@ -47,9 +47,11 @@ struct OdometryOptions {
   bool reject_targets_outside_content = true;
   // How the camera encodes the frames' corrected intensities (camera_encoding.hpp): the
   // response's slope and the vignette on the odometry's grid, from the dataset's photometric
-  // calibration (null: linear). With `noise_in_encoding` every frame's pyramid offers
-  // s = ∂I/∂E, and the residuals of the initialiser, the window and activation weigh each
-  // pattern pixel by it (photometric_residual.hpp, makeHostPatch): right when the camera's
+  // calibration (null: linear). The odometry hands it to pixel selection
+  // (PixelSelectorOptions::encoding, read with `selection.camera_encoding`). With
+  // `noise_in_encoding` every frame's pyramid offers s = ∂I/∂E, and the residuals of the
+  // initialiser, the window and activation weigh each pattern pixel by it
+  // (photometric_residual.hpp, makeHostPatch): right when the camera's
   // noise is uniform in its encoding rather than in E. The tracker's are not weighed
   // (coarse_tracker.cc says why). Off by default: it depends on where the camera adds its
   // noise, and a sensor adds most of it before the response (docs/performance.md, "Residuals

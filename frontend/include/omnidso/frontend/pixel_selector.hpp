@@ -30,7 +30,8 @@ struct PixelSelectorOptions {
   int max_adaptation_rounds = 4;
   std::uint64_t seed = 0;
   // The camera's encoding, I = G(V E) for the corrected intensity E (camera_encoding.hpp; null:
-  // linear). With `camera_encoding` the thresholds of steps 1–2 test ‖∇I‖ ≈ G′(V E) V ‖∇E‖, the gradient in
+  // linear; the odometry sets it from OdometryOptions::camera_encoding). With
+  // `camera_encoding` the thresholds of steps 1–2 test ‖∇I‖ ≈ G′(V E) V ‖∇E‖, the gradient in
   // the camera's own encoding, where its noise is about uniform — as DSO selects (its
   // `gammaWeightsPixelSelect`, with V left out). In the linear intensities the bright half of
   // a gamma-encoded image holds most of the gradient, and the threshold's constant offset
