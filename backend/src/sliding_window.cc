@@ -35,6 +35,7 @@ SlidingWindow::SlidingWindow(const std::string& model_name, const Eigen::VectorX
                 std::to_string(factory_->numIntrinsics()) + " intrinsics, got " +
                 std::to_string(intrinsics_.size()));
   if (options_.max_keyframes < 2) throw Error("SlidingWindow: max_keyframes must be at least 2");
+  checkOutlierThresholdOptions(options_.outlier_threshold);
   ceres::Problem::Options problem_options;
   problem_options.enable_fast_removal = true;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;

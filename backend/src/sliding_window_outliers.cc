@@ -1,14 +1,18 @@
 // SlidingWindow's outlier removal (sliding_window.hpp): after a solve, a residual whose raw
-// energy (out_of_bounds_penalty.hpp, without the robust loss) exceeds DSO's bound of
-// outlier_energy_per_pixel × pattern size is removed — invalid ones, out of the image, have
-// infinite energy — and points left with too few residuals are dropped with their slot.
+// energy (out_of_bounds_penalty.hpp, without the robust loss) exceeds its bound is removed —
+// the bound of its host and target keyframes measured from the window's residuals
+// (outlier_threshold.hpp), or DSO's fixed outlier_energy_per_pixel × pattern size; invalid
+// ones, out of the image, have infinite energy — and points left with too few residuals are
+// dropped with their slot.
+#include <algorithm>
 #include <limits>
+#include <map>
 #include <omnidso/backend/sliding_window.hpp>
 #include <omnidso/residuals/out_of_bounds_penalty.hpp>
 
 namespace omnidso {
 
-int SlidingWindow::removeResiduals(double max_energy, int min_residuals_per_point) {
+std::vector<double> SlidingWindow::residualEnergies() {
   // The last native solve's energies when nothing has changed since (exactly: the same
   // values, the same residuals); otherwise one evaluation per residual.
   std::vector<double> energies;
@@ -16,16 +20,23 @@ int SlidingWindow::removeResiduals(double max_energy, int min_residuals_per_poin
     energies = std::move(solved_energies_);
   solved_energies_.clear();
   solved_fingerprint_.clear();
+  if (!energies.empty()) return energies;
+  // Every photometric block of the window is an OutOfBoundsPenalty (addResidual).
+  for (auto& [pid, point] : points_)
+    for (const auto& [target_id, block] : point->residuals)
+      energies.push_back(residualEnergy(*point, target_id, block));
+  return energies;
+}
+
+template <typename MaxEnergy>
+int SlidingWindow::removeResiduals(const std::vector<double>& energies,
+                                   const MaxEnergy& max_energy, int min_residuals_per_point) {
   int removed = 0;
-  size_t k = 0;  // nativeProblem's residual order: points by id, then targets
+  size_t k = 0;  // residualEnergies' order
   std::vector<int> weak_points;
   for (auto& [pid, point] : points_) {
     for (auto it = point->residuals.begin(); it != point->residuals.end(); ++k) {
-      // Every photometric block of the window is an OutOfBoundsPenalty (addResidual).
-      const double energy = k < energies.size()
-                                ? energies[k]
-                                : residualEnergy(*point, it->first, it->second);
-      if (energy <= max_energy) {
+      if (energies[k] <= max_energy(point->host_id, it->first)) {
         ++it;
         continue;
       }
@@ -42,12 +53,36 @@ int SlidingWindow::removeResiduals(double max_energy, int min_residuals_per_poin
 }
 
 int SlidingWindow::dropInvalidResiduals() {
-  return removeResiduals(std::numeric_limits<double>::max(), 1);
+  const auto finite = [](int, int) { return std::numeric_limits<double>::max(); };
+  return removeResiduals(residualEnergies(), finite, 1);
 }
 
 int SlidingWindow::removeOutliers() {
-  return removeResiduals(options_.outlier_energy_per_pixel * kWindowPatternSize,
-                         options_.min_residuals_per_point);
+  const std::vector<double> energies = residualEnergies();
+  const double fixed_bound = options_.outlier_energy_per_pixel * kWindowPatternSize;
+  if (!options_.outlier_threshold.adaptive || keyframes_.empty()) {
+    const auto fixed = [fixed_bound](int, int) { return fixed_bound; };
+    return removeResiduals(energies, fixed, options_.min_residuals_per_point);
+  }
+  // The newest keyframe's bound, from the residuals it observes (re-measured at each pass
+  // while it is the newest, as DSO does at each linearisation).
+  WindowKeyframe& newest = *keyframes_.back();
+  std::vector<double> observed;
+  size_t k = 0;
+  for (const auto& [pid, point] : points_)
+    for (const auto& [target_id, block] : point->residuals) {
+      if (target_id == newest.id) observed.push_back(energies[k]);
+      ++k;
+    }
+  newest.outlier_energy =
+      keyframeOutlierEnergy(observed, kWindowPatternSize, options_.outlier_threshold);
+  std::map<int, double> bound_of;
+  for (const auto& kf : keyframes_) bound_of[kf->id] = kf->outlier_energy;
+  const auto adaptive = [&bound_of, fixed_bound](int host_id, int target_id) {
+    const double bound = std::max(bound_of.at(host_id), bound_of.at(target_id));
+    return bound > 0.0 ? bound : fixed_bound;
+  };
+  return removeResiduals(energies, adaptive, options_.min_residuals_per_point);
 }
 
 void SlidingWindow::dropPoint(int id) {

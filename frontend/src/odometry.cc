@@ -4,6 +4,7 @@
 // themselves are in the files odometry_impl.hpp lists.
 #include <algorithm>
 #include <cmath>
+#include <omnidso/backend/outlier_threshold.hpp>
 #include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/timing.hpp>
@@ -44,6 +45,8 @@ Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
     throw Error("Odometry: epipolar.match_sigma_px must be > 0 and epipolar.curve_offset_px >= 0 "
                 "(got " + std::to_string(options.epipolar.match_sigma_px) + " and " +
                 std::to_string(options.epipolar.curve_offset_px) + ")");
+  // The window is made at initialisation: its settings are checked here, before any frame.
+  checkOutlierThresholdOptions(options.window.outlier_threshold);
   options.window.num_threads = std::max(1, options.window.num_threads);
   if (options.compute_threads < 0)
     throw Error("Odometry: compute_threads is " + std::to_string(options.compute_threads) +

@@ -4,9 +4,11 @@
 // residual block (OutOfBoundsPenalty::rawEnergy) at the state the pass sees.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <set>
+#include <omnidso/backend/outlier_threshold.hpp>
 #include <omnidso/backend/window_solver.hpp>
 #include <omnidso/residuals/out_of_bounds_penalty.hpp>
 
@@ -41,9 +43,10 @@ WindowOptions nativeOptions() {
 // the same way: Ceres evaluates its residual blocks, which mutableProblem() adds to its
 // problem, while the window under test keeps its blocks deferred (sliding_window.hpp), so
 // that its pass evaluates deferred residuals itself.
+// `bound_of(host id, target id)` is the bound a residual must stay within.
+template <typename BoundOf>
 Residuals expectedAfterPass(SlidingWindow& twin, const WindowOptions& options,
-                            int* num_removed) {
-  const double bound = options.outlier_energy_per_pixel * kWindowPatternSize;
+                            const BoundOf& bound_of, int* num_removed) {
   Residuals kept;
   *num_removed = 0;
   const ceres::Problem& problem = twin.mutableProblem();
@@ -51,6 +54,7 @@ Residuals expectedAfterPass(SlidingWindow& twin, const WindowOptions& options,
     Residuals of_point;
     for (const auto& [target, id] : point->residuals) {
       const double energy = rawEnergy(problem, id);
+      const double bound = bound_of(point->host_id, target);
       // The pass's energies agree with these to rounding (above): none may sit on the bound.
       EXPECT_GT(std::abs(energy - bound), 1e-9 * bound);
       if (energy <= bound)
@@ -62,6 +66,12 @@ Residuals expectedAfterPass(SlidingWindow& twin, const WindowOptions& options,
       kept.insert(of_point.begin(), of_point.end());
   }
   return kept;
+}
+
+Residuals expectedAfterPass(SlidingWindow& twin, const WindowOptions& options,
+                            int* num_removed) {
+  const double bound = options.outlier_energy_per_pixel * kWindowPatternSize;
+  return expectedAfterPass(twin, options, [bound](int, int) { return bound; }, num_removed);
 }
 
 Residuals residualsOf(const SlidingWindow& window) {
@@ -130,6 +140,42 @@ TEST(WindowOutliers, PassAfterAnEditEvaluatesAgain) {
   ASSERT_GT(num_removed, 20) << "the edit should invalidate many residuals";
   EXPECT_EQ(window->removeOutliers(), num_removed);
   EXPECT_EQ(residualsOf(*window), expected);
+}
+
+// The adaptive bound (outlier_threshold.hpp): the pass measures the newest keyframe's θ from
+// the energies of the residuals it observes, and removes a residual above the larger θ of its
+// host and target; between keyframes that have none, the fixed bound holds. The options are
+// chosen so that θ falls inside the spread of the newest keyframe's energies (without the
+// fixed part and with f = 1, θ = e_(0.7) / 4: a quarter of the 70 % quantile), and the
+// fixed bound is left at DSO's 12² per pixel, which removes nothing here (above).
+TEST(WindowOutliers, AdaptiveBoundIsMeasuredOnTheNewestKeyframesResiduals) {
+  WindowOptions options = nativeOptions();
+  options.outlier_threshold.adaptive = true;
+  options.outlier_threshold.quantile_factor = 1.0;
+  options.outlier_threshold.fixed_energy_per_pixel = 0.0;
+  auto window = solvedWindow(options), twin = solvedWindow(options);
+  const int newest = twin->keyframeIds().back();
+  std::vector<double> observed;
+  const ceres::Problem& problem = twin->mutableProblem();
+  for (const auto& [pid, point] : twin->points())
+    for (const auto& [target, id] : point->residuals)
+      if (target == newest) observed.push_back(rawEnergy(problem, id));
+  const double theta = keyframeOutlierEnergy(observed, kWindowPatternSize, options.outlier_threshold);
+  ASSERT_GT(theta, 0.0);
+  const double fixed = options.outlier_energy_per_pixel * kWindowPatternSize;
+  const auto bound_of = [&](int host, int target) {
+    return host == newest || target == newest ? theta : fixed;
+  };
+  int num_removed = 0;
+  const Residuals expected = expectedAfterPass(*twin, options, bound_of, &num_removed);
+  EXPECT_GT(num_removed, 20);
+  EXPECT_EQ(window->removeOutliers(), num_removed);
+  EXPECT_EQ(residualsOf(*window), expected);
+  EXPECT_NEAR(window->keyframe(newest).outlier_energy, theta, 1e-9 * theta);
+  for (int id : window->keyframeIds()) {
+    if (id == newest) continue;
+    EXPECT_EQ(window->keyframe(id).outlier_energy, 0.0) << "keyframe " << id;
+  }
 }
 
 }  // namespace

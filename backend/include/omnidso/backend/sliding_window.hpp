@@ -44,8 +44,10 @@
 // such residuals are dropped before and after each solve (DSO's OOB state).
 //
 // Outliers: after a solve, a residual whose energy (without the robust loss) exceeds
-// outlier_energy_per_pixel × pattern size is removed (DSO's 12² per pixel); a point left
-// with fewer than min_residuals_per_point residuals is dropped.
+// outlier_energy_per_pixel × pattern size is removed (DSO's 12² per pixel), or with
+// outlier_threshold.adaptive the larger of its host's and target's bounds measured from the
+// window's residuals (outlier_threshold.hpp); a point left with fewer than
+// min_residuals_per_point residuals is dropped.
 //
 // Marginalisation (marginalizeKeyframe): points hosted by the keyframe, and points no longer
 // observed by the two newest keyframes, are marginalised (points with no residual are
@@ -65,6 +67,7 @@
 #include <omnidso/backend/keyframe_marginalization_policy.hpp>
 #include <omnidso/backend/marginalizer.hpp>
 #include <omnidso/backend/new_point_refinement.hpp>
+#include <omnidso/backend/outlier_threshold.hpp>
 #include <omnidso/backend/parameter_slots.hpp>
 #include <omnidso/backend/photometric_factory.hpp>
 #include <omnidso/backend/window_problem.hpp>
@@ -122,7 +125,11 @@ struct WindowOptions {
   int num_threads = 1;
   // Reduced camera systems up to this size use DENSE_SCHUR, larger ones SPARSE_SCHUR.
   int dense_schur_max_size = 400;
+  // The outlier bound: measured per keyframe (outlier_threshold.hpp) when
+  // outlier_threshold.adaptive, else outlier_energy_per_pixel for every residual. The fixed
+  // bound also stays the one for residuals between keyframes that have no measured bound.
   double outlier_energy_per_pixel = kDsoOutlierEnergyPerPixel;
+  OutlierThresholdOptions outlier_threshold;
   int min_residuals_per_point = 1;
   double huber_threshold = kDsoHuberThreshold;
   // affine_prior.hpp: every keyframe's [a, b] tied to 0 (calibrated photometry, as DSO);
@@ -143,6 +150,8 @@ struct WindowKeyframe {
   std::array<double, 7> pose{};  // T_world_cam as [qx qy qz qw tx ty tz]
   std::array<double, 2> affine{};  // [a, b]
   std::shared_ptr<const ImagePyramid> pyramid;
+  // θ (outlier_threshold.hpp), measured while this keyframe was the newest; 0: none.
+  double outlier_energy = 0.0;
 
   SE3d T_world_cam() const { return SE3d::fromParameters(pose.data()); }
 };
@@ -286,10 +295,15 @@ class SlidingWindow {
   std::optional<WindowObservation> observation(const WindowPoint& point,
                                                const WindowKeyframe& target, int level) const;
   void rebuildResiduals(int level, const std::map<int, std::vector<int>>& targets_by_point);
-  // Removes residuals whose raw energy (out_of_bounds_penalty.hpp) exceeds max_energy (all
-  // invalid ones: theirs is infinite), then the points left with fewer than
+  // The raw energy (out_of_bounds_penalty.hpp) of every photometric residual, in
+  // nativeProblem's order (points by id, then targets); invalid ones are infinite.
+  std::vector<double> residualEnergies();
+  // Removes residuals whose energy (residualEnergies) exceeds max_energy(host id, target id)
+  // (all invalid ones: theirs is infinite), then the points left with fewer than
   // min_residuals_per_point. Returns the number of residuals removed.
-  int removeResiduals(double max_energy, int min_residuals_per_point);
+  template <typename MaxEnergy>
+  int removeResiduals(const std::vector<double>& energies, const MaxEnergy& max_energy,
+                      int min_residuals_per_point);
   // Ceres, or the native solver where options_.native_solver allows it (level 0).
   WindowSolveSummary solve(int level);
   WindowSolveSummary solveNative(const WindowProblem& problem, WindowSolveSummary out);
