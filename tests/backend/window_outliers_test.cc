@@ -4,7 +4,6 @@
 // residual block (OutOfBoundsPenalty::rawEnergy) at the state the pass sees.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <set>
