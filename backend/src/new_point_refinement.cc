@@ -30,7 +30,7 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
   out.inverse_distance = inverse_distance;
   const WindowKeyframe& host = keyframe(host_id);
   const ImageF& image = host.pyramid->level(0);
-  if (!hostPatchFits(image, pixel) || !(inverse_distance > 0.0) ||
+  if (!hostPatchFits(image, pixel, options_.pattern_spread) || !(inverse_distance > 0.0) ||
       !std::isfinite(inverse_distance)) {
     out.verdict = NewPointVerdict::kInconsistent;
     return out;
@@ -44,7 +44,8 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
   const std::unique_ptr<InverseDistanceResiduals> residuals = factory_->makeInverseDistanceResiduals(
       intrinsics_,
       makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(0), pixel,
-                                        options_.gradient_weight_c, host.pyramid->encodingSlope(0)),
+                                        options_.gradient_weight_c, host.pyramid->encodingSlope(0),
+                                        options_.pattern_spread),
       host.pose.data(), host.affine.data(), host.exposure, targets);
   out.num_targets = residuals->numTargets();
   double d = inverse_distance;

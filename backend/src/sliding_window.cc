@@ -16,8 +16,8 @@
 
 namespace omnidso {
 
-bool hostPatchFits(const ImageF& image, const Eigen::Vector2d& pixel) {
-  const double margin = patternRadius<kWindowPatternSize>() + 1.0;
+bool hostPatchFits(const ImageF& image, const Eigen::Vector2d& pixel, int spread) {
+  const double margin = patternRadius<kWindowPatternSize>() * spread + 1.0;
   return pixel.x() >= margin && pixel.y() >= margin && pixel.x() <= image.width() - 1 - margin &&
          pixel.y() <= image.height() - 1 - margin;
 }

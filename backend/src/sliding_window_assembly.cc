@@ -56,10 +56,11 @@ std::optional<WindowObservation> SlidingWindow::observation(const WindowPoint& p
     const ImageF& image = host.pyramid->level(level);
     const Eigen::Vector2d pixel(pixelToLevel(point.pixel.x(), level),
                                 pixelToLevel(point.pixel.y(), level));
-    if (!hostPatchFits(image, pixel)) return std::nullopt;
+    if (!hostPatchFits(image, pixel, options_.pattern_spread)) return std::nullopt;
     obs.host = makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(level), pixel,
                                                  options_.gradient_weight_c,
-                                                 host.pyramid->encodingSlope(level));
+                                                 host.pyramid->encodingSlope(level),
+                                                 options_.pattern_spread);
   }
   obs.target_image = &target.pyramid->level(level);
   obs.target_content = target.pyramid->content(level);
@@ -131,7 +132,7 @@ double SlidingWindow::residualEnergy(WindowPoint& point, int target_id,
 int SlidingWindow::addPoint(int host_id, const Eigen::Vector2d& pixel, double inverse_distance) {
   const WindowKeyframe& host = keyframe(host_id);
   const ImageF& image = host.pyramid->level(0);
-  if (!hostPatchFits(image, pixel)) return -1;
+  if (!hostPatchFits(image, pixel, options_.pattern_spread)) return -1;
   auto point = std::make_unique<WindowPoint>(*inverse_distance_slots_.acquire());
   point->id = next_point_id_;
   point->host_id = host_id;
@@ -139,7 +140,8 @@ int SlidingWindow::addPoint(int host_id, const Eigen::Vector2d& pixel, double in
   point->inverse_distance = inverse_distance;
   point->patch = makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(0), pixel,
                                                    options_.gradient_weight_c,
-                                                   host.pyramid->encodingSlope(0));
+                                                   host.pyramid->encodingSlope(0),
+                                                   options_.pattern_spread);
   problem_->AddParameterBlock(&point->inverse_distance, 1);
   for (auto& kf : keyframes_)
     if (kf->id != host_id) addResidual(*point, *kf);

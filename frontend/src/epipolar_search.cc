@@ -2,6 +2,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <omnidso/core/error.hpp>
 #include <omnidso/core/interpolation.hpp>
 #include <omnidso/frontend/epipolar_search.hpp>
 #include <omnidso/residuals/residual_pattern.hpp>
@@ -10,7 +12,6 @@
 namespace omnidso {
 namespace {
 
-using Pattern = ResidualPattern<kImmaturePatternSize>;
 
 double huberWeight(double r, double k) {
   const double a = std::abs(r);
@@ -106,10 +107,11 @@ ExpectedIntensities expectedIntensities(const ImmaturePoint& point, const Affine
 
 PatternEnergy patternEnergy(const ExpectedIntensities& expected, const ImageF& target,
                             const Eigen::Vector2d& u, const Eigen::Matrix2d& pattern_map,
-                            double huber, const Mask* content) {
+                            double huber, const Mask* content, int spread) {
   PatternEnergy e;
   for (int i = 0; i < kImmaturePatternSize; ++i) {
-    const Eigen::Vector2d o(Pattern::kOffsets[i].du, Pattern::kOffsets[i].dv);
+    const PatternOffset offset = spreadOffset<kImmaturePatternSize>(i, spread);
+    const Eigen::Vector2d o(offset.du, offset.dv);
     const Eigen::Vector2d q = u + pattern_map * o;
     double value;
     if (!sampleBilinear(target, q.x(), q.y(), &value, content)) return e;
@@ -188,7 +190,8 @@ TraceResult trace(const Model& model, ImmaturePoint& point, const SE3d& T_target
     const double speed = sample.du_ds.norm();  // pixels per unit s
     if (!(speed > 1e-9)) break;
     const PatternEnergy e =
-        patternEnergy(expected, target, sample.u, sample.pattern_map, options.huber, content);
+        patternEnergy(expected, target, sample.u, sample.pattern_map, options.huber, content,
+                      point.pattern_spread);
     if (e.valid) steps.push_back({s, path, e.energy});
     const double ds = 1.0 / speed;
     if (steps.empty() && s == 0.0) total_curve_px = speed;  // first-order length of the curve
@@ -223,7 +226,8 @@ TraceResult trace(const Model& model, ImmaturePoint& point, const SE3d& T_target
     double H = 0.0, g = 0.0;
     bool ok = true;
     for (int i = 0; i < kImmaturePatternSize && ok; ++i) {
-      const Eigen::Vector2d o(Pattern::kOffsets[i].du, Pattern::kOffsets[i].dv);
+      const PatternOffset offset = spreadOffset<kImmaturePatternSize>(i, point.pattern_spread);
+      const Eigen::Vector2d o(offset.du, offset.dv);
       const Eigen::Vector2d q = sample.u + sample.pattern_map * o;
       double value, gx, gy;
       ok = sampleWithGradients(target, gradients, q.x(), q.y(), content, &value, &gx, &gy);
@@ -275,17 +279,23 @@ double ImmaturePoint::inverseDistanceEstimate() const {
 
 bool makeImmaturePoint(const Camera& camera, const ImageF& host_image,
                        const ImageGradients& host_gradients, int host_id,
-                       const Eigen::Vector2d& pixel, ImmaturePoint* point) {
+                       const Eigen::Vector2d& pixel, ImmaturePoint* point,
+                       int pattern_spread) {
+  if (pattern_spread < 1)
+    throw Error("makeImmaturePoint: the pattern's spread must be >= 1, got " +
+                std::to_string(pattern_spread));
   ImmaturePoint p;
   p.host_id = host_id;
   p.pixel = pixel;
+  p.pattern_spread = pattern_spread;
   const bool ok = std::visit(
       [&](const auto& model) { return model.unproject(pixel, p.bearing, &p.d_bearing_d_uv); },
       camera.model());
   if (!ok) return false;
   for (int i = 0; i < kImmaturePatternSize; ++i) {
-    const double u = pixel.x() + Pattern::kOffsets[i].du;
-    const double v = pixel.y() + Pattern::kOffsets[i].dv;
+    const PatternOffset offset = spreadOffset<kImmaturePatternSize>(i, pattern_spread);
+    const double u = pixel.x() + offset.du;
+    const double v = pixel.y() + offset.dv;
     Eigen::Vector2d g;
     if (!sampleWithGradients(host_image, host_gradients, u, v, nullptr, &p.host_intensity[i],
                              &g.x(), &g.y()))

@@ -87,7 +87,8 @@ Initializer::Impl::LevelProblem Initializer::Impl::buildLevel(int level, const I
     if (!members[i] || !insideMargin(p, host_image)) continue;
     WindowObservation obs;
     obs.host = makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p,
-                                                 kDsoGradientWeightC, first->encodingSlope(level));
+                                                 kDsoGradientWeightC, first->encodingSlope(level),
+                                                 options.pattern_spread);
     obs.target_image = &frame.level(level);
     obs.target_content = frame.content(level);
     obs.host_exposure = first_exposure;
@@ -188,7 +189,8 @@ Initializer::Impl::NativeLevel Initializer::Impl::buildNativeLevel(int level,
     if (!members[i] || !insideMargin(p, host_image)) continue;
     if (patches.addIfValid(makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p,
                                                              kDsoGradientWeightC,
-                                                             first->encodingSlope(level)),
+                                                             first->encodingSlope(level),
+                                                             options.pattern_spread),
                            inverse_distances[i]))
       nl.points.push_back(i);
   }
@@ -243,8 +245,8 @@ const std::vector<char>& Initializer::Impl::levelMembers(int level) {
   return members;
 }
 
-bool Initializer::Impl::insideMargin(const Eigen::Vector2d& p, const ImageF& image) {
-  const double margin = patternRadius<kWindowPatternSize>() + 1.0;
+bool Initializer::Impl::insideMargin(const Eigen::Vector2d& p, const ImageF& image) const {
+  const double margin = patternRadius<kWindowPatternSize>() * options.pattern_spread + 1.0;
   return p.x() >= margin && p.y() >= margin && p.x() <= image.width() - 1 - margin &&
          p.y() <= image.height() - 1 - margin;
 }

@@ -40,6 +40,12 @@ Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
     options.epipolar.max_search_px = 0.027 * (camera.width() + camera.height());
   // One camera encoding for residuals and selection (`selection.camera_encoding` reads it).
   options.initializer.selection.encoding = options.camera_encoding;
+  // One pattern spread for every pattern user.
+  if (options.pattern_spread < 1 || options.pattern_spread > 8)
+    throw Error("Odometry: pattern_spread must lie in 1 … 8 (got " +
+                std::to_string(options.pattern_spread) + ")");
+  options.window.pattern_spread = options.pattern_spread;
+  options.initializer.pattern_spread = options.pattern_spread;
   // The search's interval half-width σ + e |c| / a (epipolar_search.hpp) must be positive.
   if (!(options.epipolar.match_sigma_px > 0.0) || !(options.epipolar.curve_offset_px >= 0.0))
     throw Error("Odometry: epipolar.match_sigma_px must be > 0 and epipolar.curve_offset_px >= 0 "

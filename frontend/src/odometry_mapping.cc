@@ -112,7 +112,7 @@ std::vector<ImmaturePoint> Odometry::Impl::selectCandidates(int id,
   for (const SelectedPixel& p : selectPixels(pyramid, mask, selection)) {
     ImmaturePoint point;
     if (makeImmaturePoint(camera, pyramid.level(0), pyramid.gradients(0), id,
-                          p.pixel.cast<double>(), &point))
+                          p.pixel.cast<double>(), &point, options.pattern_spread))
       list.push_back(point);
   }
   return list;

@@ -32,14 +32,17 @@ const char* toString(PhotometricStatus status) {
 template <int N>
 HostPatch<N> makeHostPatch(const ImageF& host_image, const ImageGradients& host_gradients,
                            const Eigen::Vector2d& pixel, double gradient_weight_c,
-                           const ImageF* encoding_slope) {
+                           const ImageF* encoding_slope, int spread) {
+  if (spread < 1)
+    throw Error("makeHostPatch: the pattern's spread must be >= 1, got " + std::to_string(spread));
   HostPatch<N> patch;
   patch.pixel = pixel;
+  patch.spread = spread;
   const double c_sq = gradient_weight_c * gradient_weight_c;
-  const auto& pattern = ResidualPattern<N>::kOffsets;
   for (int o = 0; o < N; ++o) {
-    const double u = pixel.x() + pattern[o].du;
-    const double v = pixel.y() + pattern[o].dv;
+    const PatternOffset offset = spreadOffset<N>(o, spread);
+    const double u = pixel.x() + offset.du;
+    const double v = pixel.y() + offset.dv;
     double gx = 0.0, gy = 0.0, s = 1.0;
     if (!sampleBilinearWithGradient(host_image, u, v, &patch.intensity[o], nullptr, nullptr) ||
         !sampleBilinearWithGradient(host_gradients.dx, u, v, &gx, nullptr, nullptr) ||
@@ -60,11 +63,11 @@ HostPatch<N> makeHostPatch(const ImageF& host_image, const ImageGradients& host_
 }
 
 template HostPatch<1> makeHostPatch<1>(const ImageF&, const ImageGradients&, const Eigen::Vector2d&,
-                                       double, const ImageF*);
+                                       double, const ImageF*, int);
 template HostPatch<5> makeHostPatch<5>(const ImageF&, const ImageGradients&, const Eigen::Vector2d&,
-                                       double, const ImageF*);
+                                       double, const ImageF*, int);
 template HostPatch<8> makeHostPatch<8>(const ImageF&, const ImageGradients&, const Eigen::Vector2d&,
-                                       double, const ImageF*);
+                                       double, const ImageF*, int);
 
 ceres::LossFunction* makePhotometricLoss(int pattern_size, double huber_threshold) {
   return new ceres::HuberLoss(huber_threshold * std::sqrt(static_cast<double>(pattern_size)));

@@ -22,7 +22,8 @@ struct SearchStats {
   int good_behind_camera = 0;  // bearings with z < 0: more than 90° off the optical axis
 };
 
-SearchStats searchPair(const Camera& camera, const Eigen::Vector3d& baseline) {
+SearchStats searchPair(const Camera& camera, const Eigen::Vector3d& baseline,
+                       int pattern_spread = 1) {
   const test::RenderedScene scene(camera, 7);
   const SE3d T_world_host = scene.centralPose();
   const SE3d T_world_target = test::moveInCamera(T_world_host, baseline, {0.0, 2.0, 1.0});
@@ -40,7 +41,7 @@ SearchStats searchPair(const Camera& camera, const Eigen::Vector3d& baseline) {
   for (const SelectedPixel& p : pixels) {
     ImmaturePoint point;
     if (!makeImmaturePoint(camera, host.level(0), host.gradients(0), 0, p.pixel.cast<double>(),
-                           &point))
+                           &point, pattern_spread))
       continue;
     const auto rho = scene.distance(T_world_host, point.bearing);
     if (!rho) continue;
@@ -84,6 +85,12 @@ TEST(EpipolarSearch, UnifiedFisheyeBeyond180DegreesFindsTrueDistance) {
 TEST(EpipolarSearch, PinholeStraightLineUsesTheSameCodePath) {
   const Camera camera = synth::syntheticCamera("pinhole", 90.0, 320, 240);
   expectAccurate(searchPair(camera, {0.12, 0.02, 0.05}));
+}
+
+// The pattern on steps of two pixels (OdometryOptions::pattern_spread) searches as well.
+TEST(EpipolarSearch, SpreadPatternFindsTrueDistance) {
+  const Camera camera = synth::syntheticCamera("ucm", 195.0, 320, 320);
+  expectAccurate(searchPair(camera, {0.12, 0.02, 0.05}, 2));
 }
 
 TEST(EpipolarSearch, PureRotationHasNothingToSearch) {
@@ -231,6 +238,23 @@ TEST(EpipolarSearch, OdometryRefusesANegativeCurveOffset) {
     EXPECT_NE(std::string(e.what()).find("curve_offset_px"), std::string::npos) << e.what();
   }
   options.epipolar.curve_offset_px = 0.0;  // the fixed interval: allowed
+  EXPECT_NO_THROW(Odometry(camera, options));
+}
+
+// The odometry refuses a pattern spread outside 1 … 8, naming the setting.
+TEST(EpipolarSearch, OdometryRefusesAPatternSpreadOutOfRange) {
+  const Camera camera = synth::syntheticCamera("pinhole", 90.0, 320, 240);
+  OdometryOptions options;
+  for (int spread : {0, 9}) {
+    options.pattern_spread = spread;
+    try {
+      Odometry odometry(camera, options);
+      FAIL() << "accepted pattern_spread = " << spread;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("pattern_spread"), std::string::npos) << e.what();
+    }
+  }
+  options.pattern_spread = 2;
   EXPECT_NO_THROW(Odometry(camera, options));
 }
 

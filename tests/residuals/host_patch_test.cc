@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "omnidso/core/error.hpp"
 #include "omnidso/core/image_ops.hpp"
 #include "omnidso/core/interpolation.hpp"
 #include "omnidso/residuals/photometric_residual.hpp"
@@ -60,6 +61,27 @@ TEST(HostPatch, WeightsInTheCamerasEncodingAreTheRawImagesWeights) {
     }
   }
   EXPECT_GT(largest_miss_without, 0.3);  // the linear weights are not the encoding's
+}
+
+// A spread pattern samples the host at p + spread · o, records its spread, and refuses a spread
+// below 1.
+TEST(HostPatch, SpreadPatternSamplesOnItsSteps) {
+  const int w = 64, h = 48;
+  ImageF image(w, h);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) image(u, v) = static_cast<float>(3 * u + 100 * v);  // exact bilinear
+  const ImageGradients gradients = computeGradients(image);
+  const Eigen::Vector2d pixel(30.25, 20.5);
+  const HostPatch<kN> patch = makeHostPatch<kN>(image, gradients, pixel, 50.0, nullptr, 3);
+  EXPECT_EQ(patch.spread, 3);
+  for (int o = 0; o < kN; ++o) {
+    const PatternOffset offset = spreadOffset<kN>(o, 3);
+    EXPECT_EQ(offset.du, 3 * ResidualPattern<kN>::kOffsets[o].du);
+    EXPECT_NEAR(patch.intensity[o], 3 * (pixel.x() + offset.du) + 100 * (pixel.y() + offset.dv),
+                1e-3)
+        << "pattern pixel " << o;
+  }
+  EXPECT_THROW(makeHostPatch<kN>(image, gradients, pixel, 50.0, nullptr, 0), Error);
 }
 
 }  // namespace

@@ -205,13 +205,15 @@ TEST(PhotometricGradientWideAngleTest, UcmRaysBeyondNinetyDegrees) {
 namespace omnidso::test {
 namespace {
 
-// Pattern sizes 1 and 5 (explicitly instantiated like 8) pass the same checks.
+// One UCM observation of an N-pixel pattern on steps of `spread` pixels: analytic and autodiff
+// pass Ceres's gradient check and agree. The analytic probe is left in *analytic_probe.
 template <int N>
-void checkPatternSize() {
+void checkPattern(int spread, ceres::GradientChecker::ProbeResults* analytic_probe) {
   const ImageF target = smoothTexture(kTestWidth, kTestHeight);
   PhotometricObservation<N> obs;
   obs.target_image = &target;
   obs.host.pixel = Eigen::Vector2d(220.3, 150.6);
+  obs.host.spread = spread;
   for (int o = 0; o < N; ++o) {
     obs.host.intensity[o] = 110.0 + 4.0 * o;
     obs.host.sqrt_weight[o] = 0.9;
@@ -228,12 +230,26 @@ void checkPatternSize() {
       Ucm::photometric(DifferentiationMode::kAnalytic, obs));
   const std::unique_ptr<ceres::CostFunction> autodiff(
       Ucm::photometric(DifferentiationMode::kAutodiff, obs));
-  expectAgreement(probe(*analytic, blocks.pointers()), probe(*autodiff, blocks.pointers()));
+  *analytic_probe = probe(*analytic, blocks.pointers());
+  expectAgreement(*analytic_probe, probe(*autodiff, blocks.pointers()));
 }
 
+// Pattern sizes 1 and 5 (explicitly instantiated like 8) pass the same checks.
 TEST(PhotometricPatternSizeTest, SingleAndCrossPatterns) {
-  checkPatternSize<1>();
-  checkPatternSize<5>();
+  ceres::GradientChecker::ProbeResults unused;
+  checkPattern<1>(1, &unused);
+  checkPattern<5>(1, &unused);
+}
+
+// DSO's pattern on steps of two pixels (residual_pattern.hpp, spreadOffset) passes the same
+// checks — analytic and autodiff both sample the spread pattern — and its residuals differ from
+// the unspread pattern's (the spread is not ignored): the smooth texture changes by several grey
+// values over two pixels.
+TEST(PhotometricPatternSpreadTest, SpreadPatternPassesTheChecksAndMovesTheSamples) {
+  ceres::GradientChecker::ProbeResults dso, spread;
+  checkPattern<8>(1, &dso);
+  checkPattern<8>(2, &spread);
+  EXPECT_GT((spread.residuals - dso.residuals).cwiseAbs().maxCoeff(), 1.0);
 }
 
 // Constant blocks: Ceres passes null for their Jacobians; the others must not change.

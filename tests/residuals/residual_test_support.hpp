@@ -166,7 +166,7 @@ bool targetPixels(const PhotometricObservation<N>& obs, const PhotometricBlocks<
   const SE3d T_target_host = SE3d::fromParameters(blocks.target_pose.data()).inverse() *
                              SE3d::fromParameters(blocks.host_pose.data());
   for (int o = 0; o < N; ++o) {
-    const PatternOffset off = ResidualPattern<N>::kOffsets[o];
+    const PatternOffset off = spreadOffset<N>(o, obs.host.spread);
     Eigen::Vector3d bearing;
     if (!camera.unproject(Eigen::Vector2d(obs.host.pixel.x() + off.du, obs.host.pixel.y() + off.dv),
                           bearing)) {

@@ -25,6 +25,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"content_margin_px", &o.content_margin_px},
       {"reject_targets_outside_content", &o.reject_targets_outside_content},
       {"noise_in_encoding", &o.noise_in_encoding},
+      {"pattern_spread", &o.pattern_spread},
       {"max_activation_interval_px", &o.max_activation_interval_px},
       {"min_activation_quality", &o.min_activation_quality},
       {"activation.enabled", &o.activation.enabled},

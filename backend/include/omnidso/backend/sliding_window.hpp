@@ -138,6 +138,7 @@ struct WindowOptions {
   double affine_prior_weight_a = 1e8;
   double affine_prior_weight_b = 1e6;
   double gradient_weight_c = kDsoGradientWeightC;
+  int pattern_spread = 1;  // OdometryOptions::pattern_spread
   // Capacity of the inverse-distance storage (parameter_slots.hpp): the most points the
   // window can hold at once; addPoint throws beyond it.
   int max_points = 1 << 16;
@@ -156,9 +157,9 @@ struct WindowKeyframe {
   SE3d T_world_cam() const { return SE3d::fromParameters(pose.data()); }
 };
 
-// Whether DSO's pattern around `pixel` (level-L pixels of `image`), with the bilinear
-// footprint, lies inside the image: the condition for a host patch.
-bool hostPatchFits(const ImageF& image, const Eigen::Vector2d& pixel);
+// Whether DSO's pattern, on steps of `spread` pixels, around `pixel` (level-L pixels of
+// `image`), with the bilinear footprint, lies inside the image: the condition for a host patch.
+bool hostPatchFits(const ImageF& image, const Eigen::Vector2d& pixel, int spread = 1);
 
 struct WindowPoint {
   // inverse_distance_slot: the point's parameter block, owned by the window's ParameterSlots.

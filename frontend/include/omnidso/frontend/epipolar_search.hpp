@@ -56,6 +56,7 @@ struct ImmaturePoint {
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // level 0
   Eigen::Vector3d bearing = Eigen::Vector3d::UnitZ();
   Eigen::Matrix<double, 3, 2> d_bearing_d_uv = Eigen::Matrix<double, 3, 2>::Zero();
+  int pattern_spread = 1;  // the pattern's step in pixels (residual_pattern.hpp, spreadOffset)
   std::array<double, kImmaturePatternSize> host_intensity{};
   // G_i = Σ_o ∇I_i(p + o) ∇I_i(p + o)ᵀ over the pattern, in host pixels (header comment).
   Eigen::Matrix2d host_structure = Eigen::Matrix2d::Zero();
@@ -71,11 +72,12 @@ struct ImmaturePoint {
 };
 
 // Creates an immature point at a level-0 pixel of a keyframe (host_gradients: the host image's,
-// as ImagePyramid::gradients(0)); false when the pixel does not unproject or its pattern leaves
-// the host image.
+// as ImagePyramid::gradients(0)), its pattern on steps of `pattern_spread` pixels; false when
+// the pixel does not unproject or its pattern leaves the host image.
 bool makeImmaturePoint(const Camera& camera, const ImageF& host_image,
                        const ImageGradients& host_gradients, int host_id,
-                       const Eigen::Vector2d& pixel, ImmaturePoint* point);
+                       const Eigen::Vector2d& pixel, ImmaturePoint* point,
+                       int pattern_spread = 1);
 
 struct EpipolarSearchOptions {
   double max_search_px = 26.0;    // DSO: 0.027 (w + h)

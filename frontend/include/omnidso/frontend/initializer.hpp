@@ -37,6 +37,7 @@
 namespace omnidso {
 
 struct InitializerOptions {
+  int pattern_spread = 1;  // OdometryOptions::pattern_spread
   int num_levels = 5;
   int max_iterations_per_level = 8;
   double regularizer_weight = 50.0;    // λ after the snap, intensity² per (inverse distance)²

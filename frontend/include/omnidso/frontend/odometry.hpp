@@ -54,13 +54,18 @@ struct OdometryOptions {
   // (photometric_residual.hpp, makeHostPatch): right when the camera's
   // noise is uniform in its encoding rather than in E. The tracker's are not weighed
   // (coarse_tracker.cc says why). Off by default: it depends on where the camera adds its
-  // noise, and a sensor adds most of it before the response (docs/performance.md, "Residuals
-  // weighed in the camera's encoding"). Without a photometric calibration it changes nothing.
+  // noise (docs/performance.md, "Residuals weighed in the camera's encoding" and "The noise
+  // measured; …"). Without a photometric calibration it changes nothing.
   // The residuals are then in the encoding's units, and so is the initialiser's photometric
   // error that `initializer.max_rmse` bounds: where the noise comes before the response that
   // error is larger, and on one such render the initialiser never accepted (17.4 against 15).
   std::shared_ptr<const CameraEncoding> camera_encoding;
   bool noise_in_encoding = false;
+  // The residual pattern's step in pixels, for every pattern user (window, initialiser,
+  // activation, epipolar search; residual_pattern.hpp, spreadOffset). 1 is DSO's pattern. On
+  // an image magnified k× from its source, k puts the pattern on the source's pixels
+  // (docs/performance.md, "The narrow view without resampling"). At most 8.
+  int pattern_spread = 1;
   std::uint64_t seed = 0;
   WindowOptions window;
   CoarseTrackerOptions tracker;

@@ -47,10 +47,10 @@ class PhotometricResidualFunctor {
     // s = t_j e^{a_j} / (t_i e^{a_i}) of eq. 5.
     const T s = T(observation_.target_exposure / observation_.host_exposure) *
                 exp(target_affine[0] - host_affine[0]);
-    const auto& pattern = ResidualPattern<N>::kOffsets;
     for (int o = 0; o < N; ++o) {
-      const typename CameraT::Vec2 uv_host(T(observation_.host.pixel.x() + pattern[o].du),
-                                           T(observation_.host.pixel.y() + pattern[o].dv));
+      const PatternOffset offset = spreadOffset<N>(o, observation_.host.spread);
+      const typename CameraT::Vec2 uv_host(T(observation_.host.pixel.x() + offset.du),
+                                           T(observation_.host.pixel.y() + offset.dv));
       typename CameraT::Vec3 b;
       if (!camera.unproject(uv_host, b)) return false;
       const typename CameraT::Vec3 x = R * b + d * t;

@@ -39,10 +39,10 @@ template <class CameraD, int N>
 void unprojectHostPattern(const CameraD& camera, const HostPatch<N>& host,
                           bool with_intrinsics_jacobian,
                           HostBearings<N, CameraD::kNumParams>* out) {
-  const auto& pattern = ResidualPattern<N>::kOffsets;
   out->num_valid = 0;
   for (int o = 0; o < N; ++o) {
-    const typename CameraD::Vec2 uv(host.pixel.x() + pattern[o].du, host.pixel.y() + pattern[o].dv);
+    const PatternOffset offset = spreadOffset<N>(o, host.spread);
+    const typename CameraD::Vec2 uv(host.pixel.x() + offset.du, host.pixel.y() + offset.dv);
     if (!camera.unproject(uv, out->bearing[o], nullptr,
                           with_intrinsics_jacobian ? &out->d_bearing_d_intrinsics[o] : nullptr))
       return;

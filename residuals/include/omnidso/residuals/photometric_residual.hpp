@@ -74,11 +74,13 @@ PhotometricStatus projectionFailure(const Camera& camera, const Vec3& point) {
 template <int N>
 struct HostPatch {
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // p, in pixels of that level
+  int spread = 1;  // the pattern's step in pixels (residual_pattern.hpp, spreadOffset)
   std::array<double, N> intensity{};                // I_i[p + o]
   std::array<double, N> sqrt_weight{};              // √w_o
 };
 
-// Samples the host image and its gradients (bilinear) at p + o. Throws omnidso::Error
+// Samples the host image and its gradients (bilinear) at p + spread · o (residual_pattern.hpp,
+// spreadOffset; spread ≥ 1, 1 is the pattern as defined). Throws omnidso::Error
 // naming the pixel when a pattern pixel leaves the image. The weight is eq. 5's,
 // w = c² / (c² + ‖∇I‖²). With `encoding_slope` (s = ∂I/∂E of the host level,
 // ImagePyramid::encodingSlope) it is read in the camera's encoding, where noise added after
@@ -93,7 +95,7 @@ template <int N>
 HostPatch<N> makeHostPatch(const ImageF& host_image, const ImageGradients& host_gradients,
                            const Eigen::Vector2d& pixel,
                            double gradient_weight_c = kDsoGradientWeightC,
-                           const ImageF* encoding_slope = nullptr);
+                           const ImageF* encoding_slope = nullptr, int spread = 1);
 
 // One point observed in one target frame, on pyramid level `level`.
 template <int N>

@@ -40,6 +40,16 @@ struct ResidualPattern<8> {
       {{0, -2}, {-1, -1}, {1, -1}, {-2, 0}, {0, 0}, {2, 0}, {-1, 1}, {0, 2}}};
 };
 
+// Offset o of the pattern laid out on steps of `spread` pixels. Spread 1 is the pattern as
+// defined; on an image magnified k× from its source (a pinhole crop of a fisheye) spread k puts
+// the pattern's pixels on the source's pixels, so that they carry independent noise and texture
+// (docs/performance.md, "The narrow view without resampling").
+template <int kSize>
+constexpr PatternOffset spreadOffset(int o, int spread) {
+  return {ResidualPattern<kSize>::kOffsets[o].du * spread,
+          ResidualPattern<kSize>::kOffsets[o].dv * spread};
+}
+
 // Largest |du| or |dv| of a pattern: the margin a host pixel needs from the image border.
 template <int kSize>
 constexpr int patternRadius() {

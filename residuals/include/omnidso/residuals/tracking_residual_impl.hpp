@@ -17,10 +17,10 @@ std::optional<TrackingObservation<N>> makeTrackingObservation(const Camera<doubl
                                                               const HostPatch<N>& patch,
                                                               double inverse_distance) {
   TrackingObservation<N> observation;
-  const auto& pattern = ResidualPattern<N>::kOffsets;
   for (int o = 0; o < N; ++o) {
-    const typename Camera<double>::Vec2 uv(patch.pixel.x() + pattern[o].du,
-                                           patch.pixel.y() + pattern[o].dv);
+    const PatternOffset offset = spreadOffset<N>(o, patch.spread);
+    const typename Camera<double>::Vec2 uv(patch.pixel.x() + offset.du,
+                                           patch.pixel.y() + offset.dv);
     if (!level_camera.unproject(uv, observation.host_bearings[o])) return std::nullopt;
   }
   observation.inverse_distance = inverse_distance;
