@@ -90,4 +90,32 @@ Camera pinholeForFov(double fov_deg, int width, int height) {
   return Camera::create("pinhole", p, width, height);
 }
 
+namespace {
+
+// The angle between the rays of two pixels of a camera.
+double angleBetween(const Camera& camera, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  Eigen::Vector3d ra, rb;
+  if (!camera.unproject(a, ra) || !camera.unproject(b, rb))
+    throw Error("magnificationAtPrincipalPoint: a pixel near the principal point of the " +
+                camera.modelName() + " camera does not unproject");
+  ra.normalize();
+  rb.normalize();
+  return std::atan2(ra.cross(rb).norm(), ra.dot(rb));
+}
+
+}  // namespace
+
+double magnificationAtPrincipalPoint(const Camera& source, const Camera& target) {
+  const Eigen::VectorXd p = target.params();
+  const Eigen::Vector2d centre(p[2], p[3]);
+  Eigen::Vector3d ray;
+  Eigen::Vector2d in_source;
+  if (!target.unproject(centre, ray) || !source.project(ray, in_source))
+    throw Error("magnificationAtPrincipalPoint: the " + target.modelName() +
+                " camera's principal ray does not reach the " + source.modelName() + " camera");
+  const Eigen::Vector2d step(0.5, 0.0);  // ± half a pixel: one pixel, centred on the ray
+  return angleBetween(source, in_source - step, in_source + step) /
+         angleBetween(target, centre - step, centre + step);
+}
+
 }  // namespace omnidso

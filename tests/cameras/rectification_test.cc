@@ -42,6 +42,17 @@ TEST(RectificationTest, PinholeForFovHasThatFieldOfView) {
   EXPECT_THROW(pinholeForFov(180.0, 640, 480), Error);
 }
 
+// At the principal point a unified camera spans f / (1 + ξ) pixels per radian and a pinhole f:
+// the crop magnifies by f_pinhole (1 + ξ) / f_ucm, to the second order of the half-pixel
+// steps (1e-4 relative). A camera magnifies itself by 1.
+TEST(RectificationTest, MagnificationAtPrincipalPointIsTheRatioOfAngularResolutions) {
+  const Camera fisheye = Camera::create("ucm", vec({190.0, 190.0, 239.5, 239.5, 1.05}), 480, 480);
+  const Camera crop = pinholeForFov(90.0, 480, 480);
+  EXPECT_NEAR(magnificationAtPrincipalPoint(fisheye, crop), 240.0 * 2.05 / 190.0, 1e-4 * 2.59);
+  EXPECT_NEAR(magnificationAtPrincipalPoint(crop, fisheye), 190.0 / (240.0 * 2.05), 1e-4 * 0.39);
+  EXPECT_NEAR(magnificationAtPrincipalPoint(fisheye, fisheye), 1.0, 1e-9);
+}
+
 TEST(RectificationTest, IdentityMapPointsToTheSamePixel) {
   const Camera camera = Camera::create("pinhole", vec({400, 400, 319.5, 239.5}), 64, 48);
   const RectificationMap map = makeRectificationMap(camera, camera);

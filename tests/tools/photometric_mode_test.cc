@@ -117,5 +117,34 @@ TEST(PhotometricMode, RunRecordsTheModeAndTheUsersSettingWins) {
   EXPECT_EQ(tied_log.find("no exposure times"), std::string::npos) << tied_log;
 }
 
+// A pinhole crop lays the residual pattern on the source's pixels: the spread is the crop's
+// magnification at its centre, rounded — 240 · 2.05 / 190 = 2.59 → 3 for a 90° crop of a
+// 480-pixel unified fisheye (f 190, ξ 1.05), 415.7 · 2.05 / 190 = 4.49 → 4 for a 60° one — and
+// other models keep DSO's pattern.
+TEST(CropPatternSpread, FollowsTheCropsMagnification) {
+  const fs::path dir = fs::temp_directory_path() / "omnidso_crop_pattern_spread";
+  fs::create_directories(dir);
+  const fs::path calib = dir / "camera.txt";
+  std::ofstream(calib) << "UCM 190 190 239.5 239.5 1.05\n480 480\nnone\n480 480\n";
+  DatasetRunOptions run;
+  run.calib = calib.string();
+  DatasetIndex index = indexWithExposures({10.0});
+  index.width = index.height = 480;
+  for (const auto& [model, spread] :
+       std::vector<std::pair<std::string, int>>{{"pinhole-crop:90", 3}, {"pinhole-crop:60", 4}}) {
+    run.camera_model = model;
+    OdometryOptions options;
+    const std::string note = applyCropPatternSpread(index, run, &options);
+    EXPECT_EQ(options.pattern_spread, spread) << model;
+    EXPECT_NE(note.find("steps of " + std::to_string(spread) + " pixels"), std::string::npos)
+        << note;
+  }
+  run.camera_model = "native";
+  OdometryOptions options;
+  EXPECT_EQ(applyCropPatternSpread(index, run, &options), "");
+  EXPECT_EQ(options.pattern_spread, 1);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace omnidso::cli

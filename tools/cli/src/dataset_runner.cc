@@ -2,7 +2,9 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <iomanip>
 #include <omnidso/cameras/rectification.hpp>
+#include <sstream>
 #include <thread>
 #include <omnidso/cli/dataset_runner.hpp>
 #include <omnidso/core/content_mask.hpp>
@@ -68,6 +70,21 @@ std::string applyPhotometricMode(const DatasetIndex& index, OdometryOptions* opt
   return "no exposure times: each keyframe's affine brightness is left free (DSO's "
          "uncalibrated mode; --set window.affine_prior_weight_a=1e8 "
          "--set window.affine_prior_weight_b=1e6 ties it to 0 as with exposure times)";
+}
+
+std::string applyCropPatternSpread(const DatasetIndex& index, const DatasetRunOptions& run,
+                                   OdometryOptions* options) {
+  const std::optional<double> crop_fov = parsePinholeCrop(run.camera_model);
+  if (!crop_fov) return "";
+  const Camera source = synth::datasetCamera(index, run.calib);
+  const Camera crop = pinholeForFov(*crop_fov, source.width(), source.height());
+  const double magnification = magnificationAtPrincipalPoint(source.undistortedModel(), crop);
+  options->pattern_spread = std::clamp(static_cast<int>(std::lround(magnification)), 1, 8);
+  std::ostringstream note;
+  note << "the pinhole crop magnifies the source " << std::setprecision(3) << magnification
+       << "x at its centre: the residual pattern is laid on steps of " << options->pattern_spread
+       << " pixels (--set pattern_spread=1 for DSO's pattern)";
+  return note.str();
 }
 
 DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptions& options) {

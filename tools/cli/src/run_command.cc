@@ -95,6 +95,8 @@ void runOdometry(const RunArguments& args) {
   options.playback_speed = args.playback_speed;
   options.prefetch = !args.no_prefetch;
   const std::string photometric_note = applyPhotometricMode(index, &o);  // before the user's
+  const std::string pattern_note = applyCropPatternSpread(index, options, &o);  // likewise
+  const int crop_pattern_spread = o.pattern_spread;
   if (!args.config.empty()) applyOdometryConfigFile(o, args.config);
   for (const std::string& s : args.settings) applyOdometrySettingAssignment(o, s);
   refuseToOverwrite(args.out, args.force);  // after every option has been checked
@@ -110,6 +112,8 @@ void runOdometry(const RunArguments& args) {
   if (!photometric_note.empty() && o.window.affine_prior_weight_a == 0.0 &&
       o.window.affine_prior_weight_b == 0.0)
     std::cerr << "note: " << photometric_note << "\n";
+  if (!pattern_note.empty() && o.pattern_spread == crop_pattern_spread)
+    std::cerr << "note: " << pattern_note << "\n";
   const Odometry& odometry = *run.odometry;
   const size_t total = run.frames_processed;
   RunDescription description;

@@ -48,4 +48,11 @@ Mask validMask(const RectificationMap& map);
 // that horizontalFovDeg() of the result is fov_deg.
 Camera pinholeForFov(double fov_deg, int width, int height);
 
+// How much `target` magnifies `source` at target's principal point: the angle one source pixel
+// spans there over the angle one target pixel spans, both measured horizontally around the
+// ray through the target's principal point (for a 90° 480-pixel pinhole crop of a unified
+// fisheye with f = 190, ξ = 1.05: (f/(1+ξ))⁻¹ / 240⁻¹ ≈ 2.59). Throws omnidso::Error when the
+// ray or its neighbours do not (un)project in either camera.
+double magnificationAtPrincipalPoint(const Camera& source, const Camera& target);
+
 }  // namespace omnidso

@@ -68,4 +68,13 @@ bool exposureTimesKnown(const DatasetIndex& index);
 // for the user when it changed the options, else "".
 std::string applyPhotometricMode(const DatasetIndex& index, OdometryOptions* options);
 
+// For `pinhole-crop:FOV`, the residual pattern on the source's pixels: pattern_spread = the
+// crop's magnification of the source at its centre, rounded (cameras/rectification.hpp,
+// magnificationAtPrincipalPoint; 1 … 8). On a crop magnified 2.6× DSO's pattern covers less
+// than two source pixels, and D2's crop lost its scale in every seed (docs/performance.md,
+// "The narrow view without resampling"). Returns a note saying so, or "" for other models,
+// whose spread stays 1. Call before the user's settings, which override it.
+std::string applyCropPatternSpread(const DatasetIndex& index, const DatasetRunOptions& run,
+                                   OdometryOptions* options);
+
 }  // namespace omnidso::cli
