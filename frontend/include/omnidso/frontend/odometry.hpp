@@ -64,7 +64,8 @@ struct OdometryOptions {
   // The residual pattern's step in pixels, for every pattern user (window, initialiser,
   // activation, epipolar search; residual_pattern.hpp, spreadOffset). 1 is DSO's pattern. On
   // an image magnified k× from its source, k puts the pattern on the source's pixels
-  // (docs/performance.md, "The narrow view without resampling"). At most 8.
+  // (docs/performance.md, "The narrow view without resampling"); `omnidso run` sets it so for
+  // pinhole crops (cli::applyCropPatternSpread). At most 8.
   int pattern_spread = 1;
   std::uint64_t seed = 0;
   WindowOptions window;
