@@ -30,8 +30,8 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
   out.inverse_distance = inverse_distance;
   const WindowKeyframe& host = keyframe(host_id);
   const ImageF& image = host.pyramid->level(0);
-  if (!hostPatchFits(image, pixel, options_.pattern_spread) || !(inverse_distance > 0.0) ||
-      !std::isfinite(inverse_distance)) {
+  if (!hostPatchFits<kWindowPatternSize>(image, pixel, options_.pattern_spread) ||
+      !(inverse_distance > 0.0) || !std::isfinite(inverse_distance)) {
     out.verdict = NewPointVerdict::kInconsistent;
     return out;
   }

@@ -11,16 +11,9 @@
 #include <omnidso/backend/window_photometric_terms.hpp>
 #include <omnidso/backend/window_solver.hpp>
 #include <omnidso/core/error.hpp>
-#include <omnidso/residuals/residual_pattern.hpp>
 #include <omnidso/residuals/se3_manifold.hpp>
 
 namespace omnidso {
-
-bool hostPatchFits(const ImageF& image, const Eigen::Vector2d& pixel, int spread) {
-  const double margin = patternRadius<kWindowPatternSize>() * spread + 1.0;
-  return pixel.x() >= margin && pixel.y() >= margin && pixel.x() <= image.width() - 1 - margin &&
-         pixel.y() <= image.height() - 1 - margin;
-}
 
 SlidingWindow::SlidingWindow(const std::string& model_name, const Eigen::VectorXd& intrinsics,
                              WindowOptions options)

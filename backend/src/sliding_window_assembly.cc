@@ -56,7 +56,8 @@ std::optional<WindowObservation> SlidingWindow::observation(const WindowPoint& p
     const ImageF& image = host.pyramid->level(level);
     const Eigen::Vector2d pixel(pixelToLevel(point.pixel.x(), level),
                                 pixelToLevel(point.pixel.y(), level));
-    if (!hostPatchFits(image, pixel, options_.pattern_spread)) return std::nullopt;
+    if (!hostPatchFits<kWindowPatternSize>(image, pixel, options_.pattern_spread))
+      return std::nullopt;
     obs.host = makeHostPatch<kWindowPatternSize>(image, host.pyramid->gradients(level), pixel,
                                                  options_.gradient_weight_c,
                                                  host.pyramid->encodingSlope(level),
@@ -132,7 +133,7 @@ double SlidingWindow::residualEnergy(WindowPoint& point, int target_id,
 int SlidingWindow::addPoint(int host_id, const Eigen::Vector2d& pixel, double inverse_distance) {
   const WindowKeyframe& host = keyframe(host_id);
   const ImageF& image = host.pyramid->level(0);
-  if (!hostPatchFits(image, pixel, options_.pattern_spread)) return -1;
+  if (!hostPatchFits<kWindowPatternSize>(image, pixel, options_.pattern_spread)) return -1;
   auto point = std::make_unique<WindowPoint>(*inverse_distance_slots_.acquire());
   point->id = next_point_id_;
   point->host_id = host_id;

@@ -105,7 +105,6 @@ struct Initializer::Impl {
   std::unique_ptr<InitializerLevelPatchesBase> makePatches(ModelTag<M>, const M<double>& model,
                                                            int level) const;
 
-  bool insideMargin(const Eigen::Vector2d& p, const ImageF& image) const;
   // Per point, whether it enters level `level`'s problem: the first point of each cell of
   // options.level_cell_px level pixels, in selection order (all on level 0, or with 0).
   const std::vector<char>& levelMembers(int level);

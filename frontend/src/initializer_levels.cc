@@ -13,7 +13,6 @@
 #include <omnidso/backend/affine_prior.hpp>
 #include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/residuals/out_of_bounds_penalty.hpp>
-#include <omnidso/residuals/residual_pattern.hpp>
 
 #include "initializer_impl.hpp"
 
@@ -84,7 +83,9 @@ Initializer::Impl::LevelProblem Initializer::Impl::buildLevel(int level, const I
   const std::vector<char>& members = levelMembers(level);
   for (size_t i = 0; i < pixels.size(); ++i) {
     const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
-    if (!members[i] || !insideMargin(p, host_image)) continue;
+    if (!members[i] ||
+        !hostPatchFits<kWindowPatternSize>(host_image, p, options.pattern_spread))
+      continue;
     WindowObservation obs;
     obs.host = makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p,
                                                  kDsoGradientWeightC, first->encodingSlope(level),
@@ -186,7 +187,9 @@ Initializer::Impl::NativeLevel Initializer::Impl::buildNativeLevel(int level,
   const std::vector<char>& members = levelMembers(level);
   for (size_t i = 0; i < pixels.size(); ++i) {
     const Eigen::Vector2d p(pixelToLevel(pixels[i].x(), level), pixelToLevel(pixels[i].y(), level));
-    if (!members[i] || !insideMargin(p, host_image)) continue;
+    if (!members[i] ||
+        !hostPatchFits<kWindowPatternSize>(host_image, p, options.pattern_spread))
+      continue;
     if (patches.addIfValid(makeHostPatch<kWindowPatternSize>(host_image, first->gradients(level), p,
                                                              kDsoGradientWeightC,
                                                              first->encodingSlope(level),
@@ -243,12 +246,6 @@ const std::vector<char>& Initializer::Impl::levelMembers(int level) {
     members[i] = taken.emplace(u, v).second;
   }
   return members;
-}
-
-bool Initializer::Impl::insideMargin(const Eigen::Vector2d& p, const ImageF& image) const {
-  const double margin = patternRadius<kWindowPatternSize>() * options.pattern_spread + 1.0;
-  return p.x() >= margin && p.y() >= margin && p.x() <= image.width() - 1 - margin &&
-         p.y() <= image.height() - 1 - margin;
 }
 
 double Initializer::Impl::regularizerMean(bool snapped) const {

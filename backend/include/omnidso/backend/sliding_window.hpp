@@ -157,10 +157,6 @@ struct WindowKeyframe {
   SE3d T_world_cam() const { return SE3d::fromParameters(pose.data()); }
 };
 
-// Whether DSO's pattern, on steps of `spread` pixels, around `pixel` (level-L pixels of
-// `image`), with the bilinear footprint, lies inside the image: the condition for a host patch.
-bool hostPatchFits(const ImageF& image, const Eigen::Vector2d& pixel, int spread = 1);
-
 struct WindowPoint {
   // inverse_distance_slot: the point's parameter block, owned by the window's ParameterSlots.
   explicit WindowPoint(double& inverse_distance_slot) : inverse_distance(inverse_distance_slot) {}

@@ -27,6 +27,7 @@
 
 #include "omnidso/core/image.hpp"
 #include "omnidso/core/image_ops.hpp"
+#include "omnidso/residuals/residual_pattern.hpp"
 
 namespace ceres {
 class LossFunction;
@@ -87,15 +88,24 @@ struct HostPatch {
 // the response is uniform (camera_encoding.hpp): the residual r_E counts as r_I ≈ s r_E and the
 // gradient as s ∇E, so √w = s · c / √(c² + s² ‖∇E‖²). Without it (nullptr) s = 1, right when
 // the noise is uniform in E. Which holds depends on where the camera adds its noise
-// (camera_encoding.hpp): on the independent renderer's images (noise after a gamma response)
-// weighing by s took D2's 90° crop from 4.2–6.5 % to 0.3–1.1 %; on the own renderer's (noise
-// before the response) it made preset C's full image 8–10× worse (docs/performance.md,
-// "Residuals weighed in the camera's encoding"). Setting `noise_in_encoding`, off.
+// (camera_encoding.hpp): on the independent renderer's images weighing by s took D2's 90° crop
+// from 4.2–6.5 % to 0.3–1.1 %, and made the own preset C's full image 8–10× worse, through the
+// weights' scale against the window's fixed outlier bound (docs/performance.md, "Residuals
+// weighed in the camera's encoding", "The noise measured; …"). Setting `noise_in_encoding`, off.
 template <int N>
 HostPatch<N> makeHostPatch(const ImageF& host_image, const ImageGradients& host_gradients,
                            const Eigen::Vector2d& pixel,
                            double gradient_weight_c = kDsoGradientWeightC,
                            const ImageF* encoding_slope = nullptr, int spread = 1);
+
+// Whether the pattern, on steps of `spread` pixels, around `pixel` (pixels of `image`), with the
+// bilinear footprint, lies inside the image: the condition makeHostPatch needs.
+template <int N>
+bool hostPatchFits(const ImageF& image, const Eigen::Vector2d& pixel, int spread = 1) {
+  const double margin = patternRadius<N>() * spread + 1.0;
+  return pixel.x() >= margin && pixel.y() >= margin && pixel.x() <= image.width() - 1 - margin &&
+         pixel.y() <= image.height() - 1 - margin;
+}
 
 // One point observed in one target frame, on pyramid level `level`.
 template <int N>
