@@ -176,6 +176,10 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
   SE3d T_world_frame = SE3d::fromParameters(impl_->pose.data());
   T_world_frame.translation() *= mean;
   result.T_frame_first = T_world_frame.inverse();
+  const SE3d T_previous_first = SE3d::fromParameters(impl_->pose_before.data()).inverse();
+  result.T_frame_previous = result.T_frame_first * T_previous_first.inverse();
+  result.T_frame_previous.translation() =
+      SE3d::exp(result.T_frame_first.log() / impl_->frames_tried).translation();
   result.frame_affine = Eigen::Vector2d(impl_->affine[0], impl_->affine[1]);
   for (size_t i = 0; i < valid.size(); ++i) {
     if (!valid[i]) continue;

@@ -64,8 +64,10 @@ void Odometry::Impl::initialize(FrameRecord& record, std::shared_ptr<const Image
   record.reference_keyframe = record.index;
   last_affine = Eigen::Vector2d(window->keyframe(record.index).affine[0],
                                 window->keyframe(record.index).affine[1]);
-  T_world_prev = window->keyframe(first.index).T_world_cam();
   T_world_last = window->keyframe(record.index).T_world_cam();
+  // The velocity model's previous frame: one frame's motion back (InitializationResult), not
+  // the first frame, which can lie tens of frames back.
+  T_world_prev = T_world_last * init.T_frame_previous;
   initialized = true;
   std::ostringstream m;
   m << "segment " << segment << ": initialised at frame " << record.index << " from frame "

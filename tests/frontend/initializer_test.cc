@@ -261,5 +261,49 @@ TEST(Initializer, WaitsForTheTriangulationAngle) {
   EXPECT_NEAR(by_angle.result.parallax_deg / true_deg, 1.0, 0.1);
 }
 
+// The tracker's first velocity (InitializationResult::T_frame_previous): one frame's motion,
+// not the whole initialisation's. The camera turns faster and faster (0.02 k² degrees at frame
+// k) while stepping 1.5 cm sideways per frame, so the last step turns about twice the mean one.
+// - Rotation: the last step's. The frame before was aligned before the snap, where the
+//   translation penalty leaves part of the sideways step in the rotation (0.16° through this
+//   90° view), so the bound is half the gap between the last and the mean step: closer to the
+//   last. The whole initialisation's turn, which the odometry had used, is ≈ k times the mean.
+// - Translation: the mean step's, 1 / k of the whole in the same scale (within 5 %; the path
+//   steps evenly), along the chord: turned from the last step's direction by about half the
+//   total rotation.
+// On D2's crop, seed 4, the old prediction carried ten frames' turn and tracking was lost on
+// the first frame after initialisation (docs/performance.md, "The tracker's first velocity").
+TEST(Initializer, ReportsOneFramesMotionForTheTrackersFirstVelocity) {
+  const Camera camera = synth::syntheticCamera("pinhole", 90.0, 320, 320);
+  const test::RenderedScene scene(camera, 3);
+  const auto path = [](const SE3d& s, int k) {
+    return test::moveInCamera(s, {0.015 * k, 0.0, 0.0}, {0.0, 0.02 * k * k, 0.0});
+  };
+  const Initialisation init = initialiseAlong(camera, scene, 4, 30, path);
+  ASSERT_TRUE(init.result.done) << init.status;
+  const int k = init.frames;
+  ASSERT_GE(k, 8) << "too few frames for the last step to differ from the mean one";
+  const SE3d start = scene.centralPose();
+  const SE3d true_step = path(start, k).inverse() * path(start, k - 1);  // T_k_(k−1)
+  const double step_deg = so3Log(true_step.rotation()).norm() * 180 / M_PI;
+  const double mean_step_deg = so3Log(init.truth.rotation()).norm() * 180 / M_PI / k;
+  const SE3d& estimate = init.result.T_frame_previous;
+  const double rotation_error_deg =
+      so3Log(estimate.rotation().conjugate() * true_step.rotation()).norm() * 180 / M_PI;
+  const double length_ratio = estimate.translation().norm() /
+                              init.result.T_frame_first.translation().norm() * k;
+  const double cos_angle =
+      estimate.translation().normalized().dot(true_step.translation().normalized());
+  std::cout << "initialised after " << k << " frames; last step " << step_deg << "° (mean "
+            << mean_step_deg << "°), its rotation error " << rotation_error_deg
+            << "°; translation k·|t_step| / |t| = " << length_ratio << ", direction error "
+            << std::acos(std::min(1.0, cos_angle)) * 180 / M_PI << "°\n";
+  ASSERT_GT(step_deg - mean_step_deg, 0.25);
+  EXPECT_LT(rotation_error_deg, 0.5 * (step_deg - mean_step_deg));
+  EXPECT_NEAR(length_ratio, 1.0, 0.05);
+  const double total_deg = mean_step_deg * k;
+  EXPECT_GT(cos_angle, std::cos((0.5 * total_deg + 1.0) * M_PI / 180.0));
+}
+
 }  // namespace
 }  // namespace omnidso

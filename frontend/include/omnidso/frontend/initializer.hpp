@@ -100,6 +100,11 @@ struct InitializerLevelSolve {
 struct InitializationResult {
   bool done = false;
   SE3d T_frame_first;                               // scale: mean inverse distance 1
+  // One frame's motion at the end, T_frame_previous, for the tracker's first velocity (the
+  // first frame can lie tens of frames back): the rotation of the last step; the translation
+  // of the mean step over the frames tried, since before the snap the steps' translation is
+  // held near zero (pre_snap_translation_penalty).
+  SE3d T_frame_previous;
   Eigen::Vector2d frame_affine = Eigen::Vector2d::Zero();
   std::vector<Eigen::Vector2d> pixels;              // level 0, first frame
   std::vector<double> inverse_distances;
