@@ -105,4 +105,18 @@ std::vector<Mask> contentPyramid(const Mask& level0, int num_levels) {
   return levels;
 }
 
+ContentExtent contentExtent(const Mask& content) {
+  int u0 = content.width(), u1 = -1, v0 = content.height(), v1 = -1;
+  for (int v = 0; v < content.height(); ++v)
+    for (int u = 0; u < content.width(); ++u)
+      if (content(u, v)) {
+        u0 = std::min(u0, u);
+        u1 = std::max(u1, u);
+        v0 = std::min(v0, v);
+        v1 = std::max(v1, v);
+      }
+  if (u1 < 0) return {};
+  return {u1 - u0 + 1, v1 - v0 + 1};
+}
+
 }  // namespace omnidso

@@ -25,6 +25,9 @@ Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
   }
   if (options.pyramid_levels <= 0)
     options.pyramid_levels = pyramidLevelsForImage(camera.width(), camera.height());
+  // The keyframe decision's image size: the content's box, the frame where it has none.
+  content_extent = contentExtent(mask);
+  if (content_extent.width == 0) content_extent = {camera.width(), camera.height()};
   const bool all_content = std::all_of(mask.data(), mask.data() + mask.size(),
                                        [](std::uint8_t m) { return m != 0; });
   if (options.reject_targets_outside_content && !all_content)

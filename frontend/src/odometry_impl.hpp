@@ -21,6 +21,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/task_pool.hpp>
 #include <omnidso/frontend/mapping_worker.hpp>
 #include <omnidso/frontend/odometry.hpp>
@@ -37,6 +38,9 @@ struct Odometry::Impl {
   // that target samples leaving it are invalid; null when every pixel is content or
   // reject_targets_outside_content is off.
   std::shared_ptr<const std::vector<Mask>> content_levels;
+  // The content's bounding box (content_mask.hpp, contentExtent): the image size the
+  // keyframe decision's flow is relative to.
+  ContentExtent content_extent;
 
   std::unique_ptr<SlidingWindow> window;
   // The compute threads (OdometryOptions::compute_threads): data-parallel steps whose results

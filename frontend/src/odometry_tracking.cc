@@ -40,8 +40,8 @@ void Odometry::Impl::trackFrame(FrameRecord& record, std::shared_ptr<const Image
   const double brightness = exposure * std::exp(tracking.affine.x()) /
                             (ref.exposure * std::exp(ref.affine.x()));
   const KeyframeDecision decision =
-      decideKeyframe(tracking, brightness, first_rmse, camera.width(), camera.height(),
-                     options.keyframe_decision);
+      decideKeyframe(tracking, brightness, first_rmse, content_extent.width,
+                     content_extent.height, options.keyframe_decision);
   T_world_prev = T_world_last;
   T_world_last = T_world_frame;
   last_affine = tracking.affine;

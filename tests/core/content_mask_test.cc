@@ -1,9 +1,11 @@
-// detectContentMask / erodeContent / contentPyramid (content_mask.hpp): the black surround of
-// an image circle is found, dark regions inside are kept, an all-black start is not taken for
-// a border, erosion removes exactly the pixels within the Chebyshev radius of a hole, and a
-// coarse level's pixel is content only when every pixel it averages is.
+// detectContentMask / contentExtent / erodeContent / contentPyramid (content_mask.hpp): the
+// black surround of an image circle is found, also around a small one, dark regions inside are
+// kept, an all-black start is not taken for a border, the content's box is measured, erosion
+// removes exactly the pixels within the Chebyshev radius of a hole, and a coarse level's pixel
+// is content only when every pixel it averages is.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/error.hpp>
@@ -42,6 +44,37 @@ TEST(ContentMask, APixelBrightInAnyFrameIsContent) {
   const Mask m = detectContentMask({&dark, &lit}, 5);
   EXPECT_EQ(m(0, 0), 1);
   EXPECT_EQ(m(1, 0), 0);
+}
+
+// A lens whose disc fills little of its frame still has a border: a disc of radius 15 covers
+// 23 % of the 64×48 frame (the independent renderer's ξ = 1.1, f = 170 render: 38 %). With the
+// old bound (outside ≤ 60 %) it was taken for an all-black start and dropped.
+TEST(ContentMask, ASmallImageCircleIsStillABorder) {
+  ImageU16 f(64, 48);
+  for (int v = 0; v < 48; ++v)
+    for (int u = 0; u < 64; ++u) f(u, v) = std::hypot(u - 32.0, v - 24.0) <= 15.0 ? 100 : 0;
+  const Mask m = detectContentMask({&f}, 5);
+  size_t content = 0;
+  for (size_t i = 0; i < m.size(); ++i) content += m.data()[i];
+  EXPECT_LT(content, m.size() / 4);
+  EXPECT_EQ(m(32, 24), 1);
+  EXPECT_EQ(m(0, 0), 0);
+  EXPECT_EQ(m(32, 24 - 16), 0);
+}
+
+// The content's box: the disc of radius 20 about (32, 24) spans u 12 … 52 and v 4 … 44.
+TEST(ContentMask, ExtentIsTheContentsBoundingBox) {
+  const ImageU16 f = discFrame();
+  const ContentExtent disc = contentExtent(detectContentMask({&f}, 5));
+  EXPECT_EQ(disc.width, 41);
+  EXPECT_EQ(disc.height, 41);
+  Mask all(64, 48), none(64, 48);
+  std::fill(all.data(), all.data() + all.size(), std::uint8_t{1});
+  std::fill(none.data(), none.data() + none.size(), std::uint8_t{0});
+  EXPECT_EQ(contentExtent(all).width, 64);
+  EXPECT_EQ(contentExtent(all).height, 48);
+  EXPECT_EQ(contentExtent(none).width, 0);
+  EXPECT_EQ(contentExtent(none).height, 0);
 }
 
 TEST(ContentMask, AnAllBlackStartIsNotABorder) {

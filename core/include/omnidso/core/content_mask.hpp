@@ -15,7 +15,15 @@
 // through such pixels to the image border. A dark region inside the image is never removed,
 // and a scene that is merely dark at the border is kept as soon as one frame shows it
 // brighter. Returns an all-content mask when the outside would cover more than
-// `max_outside_fraction` of the image (an all-black start, not a lens border).
+// `max_outside_fraction` of the image (an all-black start, not a lens border). A lens's disc
+// can fill little of its frame: a 190° view with ξ = 1.1 and f = 170 px is a 334-pixel disc,
+// 38 % of its 480 × 480 frame. The bound was 0.6 and dropped that mask, and with it the
+// content checks, the full image's accuracy fell 4–20× (docs/performance.md, "A small image
+// circle").
+//
+// contentExtent: the width and height of the smallest axis-aligned box holding every content
+// pixel ({0, 0} when there is none) — the size of the image that DSO's flow rule for keyframes
+// is relative to: its frames are filled by content, a fisheye's disc is not.
 //
 // erodeContent: removes every pixel within `radius` pixels (Chebyshev distance) of a
 // non-content pixel inside the image; the image border itself does not erode.
@@ -34,10 +42,16 @@
 namespace omnidso {
 
 Mask detectContentMask(const std::vector<const ImageU16*>& frames, int black_level,
-                       double max_outside_fraction = 0.6);
+                       double max_outside_fraction = 0.9);
 
 Mask erodeContent(const Mask& content, int radius);
 
 std::vector<Mask> contentPyramid(const Mask& level0, int num_levels);
+
+struct ContentExtent {
+  int width = 0;
+  int height = 0;
+};
+ContentExtent contentExtent(const Mask& content);
 
 }  // namespace omnidso

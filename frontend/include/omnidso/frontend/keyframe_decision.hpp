@@ -4,9 +4,12 @@
 //   s = w_t · f_t / (w + h) + w_rt · f_rt / (w + h) + w_a · |log(t_j e^{a_j} / (t_i e^{a_i}))| > 1,
 // f_t / f_rt the RMS pixel shift of the reference points under the translation alone / the
 // full motion (coarse_tracker.hpp), with DSO's weights w_t = 0.04·(640+480),
-// w_rt = 0.02·(640+480), w_a = 2 — normalised by the image size, so a 640×480 image needs an
-// RMS translational flow of 25 px — or when the tracking error has more than doubled since
-// the first frame tracked against this keyframe.
+// w_rt = 0.02·(640+480), w_a = 2 — normalised by the image size w + h, so a 640×480 image
+// needs an RMS translational flow of 25 px — or when the tracking error has more than doubled
+// since the first frame tracked against this keyframe. The odometry passes the size of the
+// image content's box (content_mask.hpp, contentExtent): DSO's frames are filled by content, a
+// fisheye's disc may fill 38 % of its frame, and measured against the frame such a lens made
+// too few keyframes (docs/performance.md, "A small image circle").
 
 #include <omnidso/frontend/coarse_tracker.hpp>
 
