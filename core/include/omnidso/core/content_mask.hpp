@@ -18,7 +18,7 @@
 // `max_outside_fraction` of the image (an all-black start, not a lens border). A lens's disc
 // can fill little of its frame: a 190° view with ξ = 1.1 and f = 170 px is a 334-pixel disc,
 // 38 % of its 480 × 480 frame. The bound was 0.6 and dropped that mask, and with it the
-// content checks, the full image's accuracy fell 4–20× (docs/performance.md, "A small image
+// content checks, the full image's error grew 4–6× (docs/performance.md, "A small image
 // circle").
 //
 // contentExtent: the width and height of the smallest axis-aligned box holding every content
