@@ -1,49 +1,39 @@
 // Activation of candidates (odometry.hpp, step 5; DSO Sec. 3.2): an immature point whose
 // epipolar search has converged (good traces, an interval of at most
-// max_activation_interval_px, quality ≥ min_activation_quality) becomes a window point while
-// the window that remains after this keyframe step holds fewer than num_points. An occupancy
-// grid in the newest keyframe, one point per cell of the size that spreads num_points over
-// the image content, keeps the map spread out; each candidate is first refined against every
-// window keyframe (new_point_refinement.hpp): unobserved ones wait, inconsistent ones are
-// dropped.
+// max_activation_interval_px, quality ≥ min_activation_quality) becomes a window point when
+// it lands in a free cell of the newest keyframe's occupancy grid (activation_grid.hpp: one
+// point per cell of the size that spreads num_points over the image content). The grid is
+// the only bound, as DSO's distance map is: a count cap on the window's points had held every
+// new point back on forward paths. Each candidate is first refined against every window
+// keyframe (new_point_refinement.hpp): unobserved ones wait, inconsistent ones are dropped.
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <optional>
 #include <utility>
+
+#include <omnidso/frontend/activation_grid.hpp>
 
 #include "odometry_impl.hpp"
 
 namespace omnidso {
 
-// leaving: the keyframes this keyframe step will marginalise. Their points neither count
-// against num_points nor occupy a cell, and their candidates are not activated: activation
-// refills the window that remains. (With N_f = 3 the initial keyframe holds every point when
-// it leaves; counting its points left the window empty and tracking lost.)
+// leaving: the keyframes this keyframe step will marginalise. Their points do not occupy a
+// cell, and their candidates are not activated: activation refills the window that remains.
+// (With N_f = 3 the initial keyframe holds every point when it leaves; had its points kept
+// their cells, nothing would have refilled them, and tracking was lost.)
 void Odometry::Impl::activatePoints(int newest_id, const std::vector<int>& leaving) {
   const auto is_leaving = [&leaving](int id) {
     return std::find(leaving.begin(), leaving.end(), id) != leaving.end();
   };
   const WindowKeyframe& newest = window->keyframe(newest_id);
   const SE3d T_newest_world = newest.T_world_cam().inverse();
-  // Occupancy grid in the newest keyframe: one point per cell keeps the map spread out.
-  const double valid_area = std::max(1.0, static_cast<double>(std::count_if(
-      mask.data(), mask.data() + mask.size(), [](std::uint8_t m) { return m != 0; })));
-  const double cell = std::max(2.0, std::sqrt(valid_area / std::max(1, options.num_points)));
-  const int gw = static_cast<int>(camera.width() / cell) + 1;
-  const int gh = static_cast<int>(camera.height() / cell) + 1;
-  std::vector<char> occupied(static_cast<size_t>(gw) * gh, 0);
-  auto cellOf = [&](const Eigen::Vector2d& u) {
-    return static_cast<size_t>(static_cast<int>(u.y() / cell)) * gw +
-           static_cast<size_t>(static_cast<int>(u.x() / cell));
-  };
-  int num_staying = 0;
+  const double content_area = static_cast<double>(std::count_if(
+      mask.data(), mask.data() + mask.size(), [](std::uint8_t m) { return m != 0; }));
+  ActivationGrid grid(camera.width(), camera.height(), content_area, options.num_points);
   for (const auto& [pid, point] : window->points()) {
-    if (is_leaving(point->host_id)) continue;
-    ++num_staying;
-    if (!(point->inverse_distance > 0.0)) continue;
+    if (is_leaving(point->host_id) || !(point->inverse_distance > 0.0)) continue;
     Eigen::Vector2d u;
-    if (camera.project(T_newest_world * window->pointInWorld(*point), u)) occupied[cellOf(u)] = 1;
+    if (camera.project(T_newest_world * window->pointInWorld(*point), u)) grid.occupy(u);
   }
   const auto converged = [&](const ImmaturePoint& p) {
     return p.num_good_traces > 0 &&
@@ -51,11 +41,12 @@ void Odometry::Impl::activatePoints(int newest_id, const std::vector<int>& leavi
            p.last_interval_px <= options.max_activation_interval_px &&
            p.quality >= options.min_activation_quality && p.inverseDistanceEstimate() > 0.0;
   };
-  // Where the candidate would land in the newest keyframe (false: outside it).
+  // Where the candidate would land in the newest keyframe (false: outside its image).
   const auto projectToNewest = [&](int host_id, const ImmaturePoint& p, Eigen::Vector2d* u) {
     const SE3d T_world_host = window->keyframe(host_id).T_world_cam();
     return camera.project(
-        T_newest_world * (T_world_host * (p.bearing / p.inverseDistanceEstimate())), *u);
+               T_newest_world * (T_world_host * (p.bearing / p.inverseDistanceEstimate())), *u) &&
+           grid.contains(*u);
   };
   const auto refine = [&](int host_id, const ImmaturePoint& p) {
     return window->refineNewPoint(host_id, p.pixel, p.inverseDistanceEstimate(),
@@ -86,7 +77,7 @@ void Odometry::Impl::activatePoints(int newest_id, const std::vector<int>& leavi
     for (size_t e = from; e < entries.size() && batch.size() < kRefinementBatch; ++e) {
       Eigen::Vector2d u;
       const ImmaturePoint& p = candidate(entries[e]);
-      if (!converged(p) || (projectToNewest(entries[e].host_id, p, &u) && occupied[cellOf(u)]))
+      if (!converged(p) || (projectToNewest(entries[e].host_id, p, &u) && grid.occupied(u)))
         continue;
       batch.push_back(e);
     }
@@ -100,13 +91,13 @@ void Odometry::Impl::activatePoints(int newest_id, const std::vector<int>& leavi
     const int host_id = entries[e].host_id;
     std::vector<ImmaturePoint>& keep = kept[host_id];
     const ImmaturePoint& p = candidate(entries[e]);
-    if (!converged(p) || num_staying >= options.num_points) {
+    if (!converged(p)) {
       keep.push_back(p);
       continue;
     }
     Eigen::Vector2d u;
     const bool in_newest = projectToNewest(host_id, p, &u);
-    if (in_newest && occupied[cellOf(u)]) {
+    if (in_newest && grid.occupied(u)) {
       keep.push_back(p);
       continue;
     }
@@ -121,9 +112,8 @@ void Odometry::Impl::activatePoints(int newest_id, const std::vector<int>& leavi
       if (r.verdict == NewPointVerdict::kInconsistent) continue;  // a wrong match: drop
       activation_d = r.inverse_distance;
     }
-    if (in_newest) occupied[cellOf(u)] = 1;
-    if (window->addPoint(host_id, p.pixel, activation_d) < 0) continue;  // no valid residual
-    ++num_staying;
+    if (in_newest) grid.occupy(u);
+    window->addPoint(host_id, p.pixel, activation_d);  // < 0: no valid residual, not added
   }
   for (auto& [host_id, list] : kept) immature.at(host_id).swap(list);
 }

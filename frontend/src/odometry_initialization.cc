@@ -35,8 +35,9 @@ void Odometry::Impl::initialize(FrameRecord& record, std::shared_ptr<const Image
     return;
   }
   WindowOptions window_options = options.window;
-  // Activation stops at num_points active points; the initialisation's may exceed it a
-  // little: room to spare, so that the slots never run out.
+  // Activation fills a grid of num_points cells in the newest keyframe, and the window holds
+  // what the keyframes that remain still observe (measured: 1.2 num_points on average, 1.4
+  // at most, on D3): 4 num_points slots leave room to spare, so that they never run out.
   window_options.max_points = std::max(window_options.max_points, 4 * options.num_points);
   window = std::make_unique<SlidingWindow>(camera.modelName(), camera.params(), window_options);
   window->setTaskPool(pool.get());

@@ -31,7 +31,9 @@
 namespace omnidso {
 
 struct OdometryOptions {
-  int num_points = 2000;         // active points aimed at in the window
+  // Active points aimed at (DSO's N_p): the density of activation's grid, one point per cell
+  // of area/num_points in the newest keyframe (activation_grid.hpp), not a cap on the window.
+  int num_points = 2000;
   int num_candidates = 2000;     // immature points selected per keyframe
   // Levels of every image pyramid (tracking, initialisation); 0: pyramidLevelsForImage of
   // the camera's image size (core/pyramid.hpp), which also caps tracker.num_levels.
