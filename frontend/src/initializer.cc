@@ -176,8 +176,9 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
   SE3d T_world_frame = SE3d::fromParameters(impl_->pose.data());
   T_world_frame.translation() *= mean;
   result.T_frame_first = T_world_frame.inverse();
-  const SE3d T_previous_first = SE3d::fromParameters(impl_->pose_before.data()).inverse();
-  result.T_frame_previous = result.T_frame_first * T_previous_first.inverse();
+  // The rotation of the last step (pose_before: T_first_previous); its translation, unscaled
+  // here, is replaced by the mean step's.
+  result.T_frame_previous = result.T_frame_first * SE3d::fromParameters(impl_->pose_before.data());
   result.T_frame_previous.translation() =
       SE3d::exp(result.T_frame_first.log() / impl_->frames_tried).translation();
   result.frame_affine = Eigen::Vector2d(impl_->affine[0], impl_->affine[1]);
