@@ -1,7 +1,6 @@
 // Trajectory file I/O: bit-exact TUM round trip, the three formats, and every malformed
 // case rejected with an Error naming file and line.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -10,38 +9,44 @@
 #include <random>
 #include <string>
 
+#include "core/temp_dir.hpp"
 #include "test_data.hpp"
 
 namespace omnidso {
 namespace {
 
-// A file in the temporary directory named after the running test (ctest runs tests in
-// parallel processes, so names must not collide).
-std::string writeTempFile(const std::string& suffix, const std::string& content) {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                     ("omnidso_" + std::string(info->name()) + "_" +
-                                      std::to_string(::getpid()) + suffix);
-  std::ofstream(path) << content;
-  return path.string();
-}
-
-// Expects reading to throw an Error whose message starts with "PATH:LINE:".
-void expectErrorAtLine(const std::string& content, TrajectoryFormat format, int line,
-                       const std::string& what,
-                       TimestampPolicy policy = TimestampPolicy::kTolerant) {
-  const std::string path = writeTempFile(".txt", content);
-  try {
-    readTrajectoryFile(path, format, policy);
-    ADD_FAILURE() << "no error for: " << what;
-  } catch (const Error& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.rfind(path + ":" + std::to_string(line) + ":", 0), 0u)
-        << what << ": " << message;
+// Each test writes its files into its own temporary directory (temp_dir.hpp: named after
+// the test and the process, since ctest runs tests in parallel processes), removed again
+// when the test ends.
+class TrajectoryIo : public ::testing::Test {
+ protected:
+  std::string writeTempFile(const std::string& suffix, const std::string& content) {
+    const std::string path = temp_.file("trajectory_" + std::to_string(num_files_++) + suffix);
+    std::ofstream(path) << content;
+    return path;
   }
-}
 
-TEST(TrajectoryIo, TumRoundTripIsBitExact) {
+  // Expects reading to throw an Error whose message starts with "PATH:LINE:".
+  void expectErrorAtLine(const std::string& content, TrajectoryFormat format, int line,
+                         const std::string& what,
+                         TimestampPolicy policy = TimestampPolicy::kTolerant) {
+    const std::string path = writeTempFile(".txt", content);
+    try {
+      readTrajectoryFile(path, format, policy);
+      ADD_FAILURE() << "no error for: " << what;
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind(path + ":" + std::to_string(line) + ":", 0), 0u)
+          << what << ": " << message;
+    }
+  }
+
+ private:
+  test::TempDir temp_;
+  int num_files_ = 0;
+};
+
+TEST_F(TrajectoryIo, TumRoundTripIsBitExact) {
   std::mt19937 rng(42);
   std::normal_distribution<double> normal(0.0, 3.0);
   Trajectory trajectory;
@@ -67,7 +72,7 @@ TEST(TrajectoryIo, TumRoundTripIsBitExact) {
   }
 }
 
-TEST(TrajectoryIo, TumSkipsCommentsAndBlankLinesAndAcceptsCommas) {
+TEST_F(TrajectoryIo, TumSkipsCommentsAndBlankLinesAndAcceptsCommas) {
   const std::string path = writeTempFile(".txt",
                                          "# timestamp tx ty tz qx qy qz qw\n"
                                          "\n"
@@ -84,14 +89,14 @@ TEST(TrajectoryIo, TumSkipsCommentsAndBlankLinesAndAcceptsCommas) {
             1e-12);
 }
 
-TEST(TrajectoryIo, SlightlyNonUnitQuaternionIsNormalised) {
+TEST_F(TrajectoryIo, SlightlyNonUnitQuaternionIsNormalised) {
   // Six printed decimals leave |q| off by ~1e-6: accepted and normalised.
   const std::string path = writeTempFile(".txt", "0 0 0 0 -0.824237 -0.106942 -0.551702 0.069434\n");
   const Trajectory trajectory = readTrajectoryTum(path);
   EXPECT_NEAR(trajectory[0].pose.rotation().norm(), 1.0, 1e-15);
 }
 
-TEST(TrajectoryIo, KittiUsesLineIndexAsTimestamp) {
+TEST_F(TrajectoryIo, KittiUsesLineIndexAsTimestamp) {
   const std::string path = writeTempFile(
       ".txt",
       "1 0 0 0 0 1 0 0 0 0 1 0\n"
@@ -107,7 +112,7 @@ TEST(TrajectoryIo, KittiUsesLineIndexAsTimestamp) {
   EXPECT_LT((trajectory[1].pose.rotationMatrix() - expected).norm(), 1e-15);
 }
 
-TEST(TrajectoryIo, EurocCsvConvertsNanosecondsAndWxyzOrder) {
+TEST_F(TrajectoryIo, EurocCsvConvertsNanosecondsAndWxyzOrder) {
   const std::string path = writeTempFile(
       ".csv",
       "#timestamp [ns], p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], "
@@ -127,7 +132,7 @@ TEST(TrajectoryIo, EurocCsvConvertsNanosecondsAndWxyzOrder) {
   EXPECT_NEAR(trajectory[0].pose.rotation().x(), -0.828459, 2e-6);
 }
 
-TEST(TrajectoryIo, MalformedFilesNameFileAndLine) {
+TEST_F(TrajectoryIo, MalformedFilesNameFileAndLine) {
   const std::string ok = "# header\n1 0 0 0 0 0 0 1\n";
   expectErrorAtLine(ok + "2 0 0 0 0 0 1\n", TrajectoryFormat::kTum, 3, "7 columns");
   expectErrorAtLine(ok + "2 0 0 0 0 0 0 1 9\n", TrajectoryFormat::kTum, 3, "9 columns");
@@ -151,7 +156,7 @@ TEST(TrajectoryIo, MalformedFilesNameFileAndLine) {
 // TUM RGB-D's fr2/desk ground truth repeats a timestamp (line 10863) with another pose:
 // the first is kept, as evo's nearest-stamp association would match it, and the drop is
 // reported; strict mode refuses the file.
-TEST(TrajectoryIo, RepeatedTimestampKeepsTheFirstPoseAndWarns) {
+TEST_F(TrajectoryIo, RepeatedTimestampKeepsTheFirstPoseAndWarns) {
   const std::string path = writeTempFile(".txt",
                                          "# ground truth trajectory\n"
                                          "1311868229.5660 1 0 0 0 0 0 1\n"
@@ -171,7 +176,7 @@ TEST(TrajectoryIo, RepeatedTimestampKeepsTheFirstPoseAndWarns) {
   EXPECT_EQ(readTrajectory(path, TrajectoryFormat::kTum).size(), 3u);
 }
 
-TEST(TrajectoryIo, UnsortedLinesAreSortedWithAWarning) {
+TEST_F(TrajectoryIo, UnsortedLinesAreSortedWithAWarning) {
   const std::string path = writeTempFile(".csv",
                                          "\xEF\xBB\xBF#timestamp [ns], x, y, z, qw, qx, qy, qz\r\n"
                                          "3000000000,3,0,0,1,0,0,0\r\n"
@@ -191,7 +196,7 @@ TEST(TrajectoryIo, UnsortedLinesAreSortedWithAWarning) {
   EXPECT_EQ(file.warnings.size(), 2u);
 }
 
-TEST(TrajectoryIo, ScientificNotationAndPlusSignsAreNumbers) {
+TEST_F(TrajectoryIo, ScientificNotationAndPlusSignsAreNumbers) {
   const std::string path = writeTempFile(".txt",
                                          "1.311868229566E+09 +1e-3 -2.5e0 0 0 0 0 1.0E0\n"
                                          "1.311868229576e9 1E-3 0 0 0 0 0 1\n");
@@ -201,7 +206,7 @@ TEST(TrajectoryIo, ScientificNotationAndPlusSignsAreNumbers) {
   EXPECT_EQ(trajectory[0].pose.translation(), Eigen::Vector3d(1e-3, -2.5, 0));
 }
 
-TEST(TrajectoryIo, EmptyAndMissingFilesNameTheFile) {
+TEST_F(TrajectoryIo, EmptyAndMissingFilesNameTheFile) {
   const std::string path = writeTempFile(".txt", "# only a comment\n\n");
   try {
     readTrajectoryTum(path);
@@ -213,7 +218,7 @@ TEST(TrajectoryIo, EmptyAndMissingFilesNameTheFile) {
   EXPECT_THROW(parseTrajectoryFormat("bag"), Error);
 }
 
-TEST(TrajectoryIo, ReadsRealEurocGroundTruth) {
+TEST_F(TrajectoryIo, ReadsRealEurocGroundTruth) {
   const auto dir = test::sharedDataDir("trajectories");
   if (!dir) GTEST_SKIP() << test::missingDataMessage("trajectories");
   const Trajectory trajectory =
