@@ -117,6 +117,46 @@ TEST(PhotometricMode, RunRecordsTheModeAndTheUsersSettingWins) {
   EXPECT_EQ(tied_log.find("no exposure times"), std::string::npos) << tied_log;
 }
 
+// Without vignette.png `omnidso run` estimates one from the frames (dataset_vignette.hpp) and
+// says what came of it; `--no-vignette-estimation` assumes none. Three 96-pixel frames hold
+// far fewer tracks than an estimate needs, so the run records the attempt and why it gave
+// nothing (the estimator's accuracy is vignette_estimation_test.cc's).
+TEST(VignetteEstimate, RunRecordsTheAttemptAndTheFlagSkipsIt) {
+  test::TempDir tmp("vignette_estimate");
+  const fs::path data = tmp.path() / "data";
+  synth::SyntheticSequence sequence(test::smallSequenceConfig(3));
+  synth::writeSyntheticDataset(sequence, data.string());
+  fs::remove(data / "vignette.png");
+  auto run = [&](const std::string& name, std::vector<std::string> extra) {
+    ProcessSpec spec;
+    spec.argv = {OMNIDSO_EXECUTABLE, "run", data.string(), "--out", (tmp.path() / name).string(),
+                 "--quiet"};
+    spec.argv.insert(spec.argv.end(), extra.begin(), extra.end());
+    spec.log_path = (tmp.path() / (name + ".log")).string();
+    spec.timeout_s = 120;
+    const ProcessOutcome outcome = runProcesses({spec}, 1).front();
+    std::ifstream log(spec.log_path);
+    const std::string output((std::istreambuf_iterator<char>(log)), {});
+    EXPECT_TRUE(outcome.succeeded()) << name << ": " << outcome.describe() << "\n" << output;
+    const nlohmann::json summary =
+        nlohmann::json::parse(std::ifstream(tmp.path() / name / "summary.json"));
+    const nlohmann::json photometric = summary.at("settings").at("photometric");
+    EXPECT_TRUE(photometric.at("vignette").is_null());
+    return std::make_pair(photometric.at("vignette_estimate"), output);
+  };
+  const auto [tried, tried_log] = run("estimated", {});
+  ASSERT_TRUE(tried.is_object()) << tried.dump();
+  EXPECT_FALSE(tried.at("valid").get<bool>());
+  EXPECT_EQ(tried.at("pairs").get<int>(), 2);  // frames 0–1 and 1–2
+  EXPECT_NE(tried.at("reason").get<std::string>().find("needed"), std::string::npos);
+  EXPECT_NE(tried_log.find("no vignette.png, and none could be estimated"), std::string::npos)
+      << tried_log;
+  EXPECT_FALSE(fs::exists(tmp.path() / "estimated" / "vignette_estimated.png"));
+  const auto [skipped, skipped_log] = run("skipped", {"--no-vignette-estimation"});
+  EXPECT_TRUE(skipped.is_null()) << skipped.dump();
+  EXPECT_EQ(skipped_log.find("vignette"), std::string::npos) << skipped_log;
+}
+
 // A pinhole crop lays the residual pattern on the source's pixels: the spread is the crop's
 // magnification at its centre, rounded — 240 · 2.05 / 190 = 2.59 → 3 for a 90° crop of a
 // 480-pixel unified fisheye (f 190, ξ 1.05), 415.7 · 2.05 / 190 = 4.49 → 4 for a 60° one — and

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <thread>
 #include <omnidso/cli/dataset_runner.hpp>
+#include <omnidso/cli/dataset_vignette.hpp>
 #include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/image_io.hpp>
@@ -95,6 +96,7 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
   if (crop_fov) camera = pinholeForFov(*crop_fov, source.width(), source.height());
   std::optional<RectificationMap> rectification;
   Mask image_mask;
+  Mask source_content;  // the content on the source's grid (empty: all of it)
   if (crop_fov || source.distortsImages()) {
     rectification = makeRectificationMap(source, camera);
     image_mask = validMask(*rectification);
@@ -111,7 +113,8 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
         pixels.push_back(&r.pixels);
     if (!pixels.empty()) {
       const int full_scale = (1 << first.front().bit_depth) - 1;
-      Mask content = detectContentMask(pixels, static_cast<int>(0.02 * full_scale));
+      source_content = detectContentMask(pixels, static_cast<int>(0.02 * full_scale));
+      Mask content = source_content;
       if (rectification) content = remap(content, *rectification);  // 0 where any source pixel is 0 nearby
       if (image_mask.empty()) {
         image_mask = std::move(content);
@@ -126,9 +129,19 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
       for (size_t i = 0; i < within.size(); ++i) within.data()[i] &= image_mask.data()[i];
     image_mask = std::move(within);
   }
-  const PhotometricCalibration photometric = PhotometricCalibration::fromFiles(
+  PhotometricCalibration photometric = PhotometricCalibration::fromFiles(
       index.pcalib_path.value_or(""), index.vignette_path.value_or(""));
   if (photometric.hasVignette()) photometric.checkImageSize(source.width(), source.height());
+  const size_t total = options.max_frames > 0 ? std::min(index.frames.size(), options.max_frames)
+                                              : index.frames.size();
+  std::optional<VignetteEstimate> vignette_estimate;
+  if (!index.vignette_path && options.estimate_vignette) {
+    vignette_estimate = estimateDatasetVignette(index, total, source, source_content, photometric);
+    if (vignette_estimate->valid)
+      photometric = PhotometricCalibration(photometric.inverseResponseTable(),
+                                           vignette_estimate->map(source.width(), source.height()),
+                                           "the estimated vignette");
+  }
 
   // The camera's encoding (camera_encoding.hpp) on the odometry's image grid: the residuals'
   // weights (`noise_in_encoding`) and, with `selection.camera_encoding`, pixel selection.
@@ -145,10 +158,9 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
       odometry_options.camera_encoding =
           std::make_shared<const CameraEncoding>(std::move(slope), vignette);
   }
-  DatasetRun run{source, camera, std::make_unique<Odometry>(camera, odometry_options, image_mask)};
+  DatasetRun run{source, camera, std::make_unique<Odometry>(camera, odometry_options, image_mask),
+                 std::move(vignette_estimate)};
   if (options.retired_point_sink) run.odometry->setRetiredPointSink(options.retired_point_sink);
-  const size_t total = options.max_frames > 0 ? std::min(index.frames.size(), options.max_frames)
-                                              : index.frames.size();
   Stopwatch wall;
   const bool paced = options.odometry.realtime && options.playback_speed > 0.0 && total > 0;
   // Frame i as the odometry takes it (reads only what is const during the loop).

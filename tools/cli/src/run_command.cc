@@ -11,12 +11,14 @@
 #include <memory>
 #include <omnidso/cli/commands.hpp>
 #include <omnidso/cli/dataset_runner.hpp>
+#include <omnidso/cli/dataset_vignette.hpp>
 #include <omnidso/cli/odometry_settings.hpp>
 #include <omnidso/cli/progress.hpp>
 #include <omnidso/cli/run_outputs.hpp>
 #include <omnidso/cli/staged_directory.hpp>
 #include <omnidso/core/dataset.hpp>
 #include <omnidso/core/error.hpp>
+#include <omnidso/core/photometric_calibration.hpp>
 #include <omnidso/core/task_pool.hpp>
 #include <omnidso/frontend/odometry.hpp>
 #include <omnidso/synth/dataset_loading.hpp>
@@ -45,6 +47,7 @@ struct RunArguments {
   double playback_speed = 1.0;
   bool skip_missing = false;  // drop frames whose images are missing instead of refusing
   bool no_prefetch = false;
+  bool no_vignette_estimation = false;
 };
 
 void refuseToOverwrite(const std::string& out, bool force) {
@@ -94,6 +97,7 @@ void runOdometry(const RunArguments& args) {
                                                : defaultComputeThreads();
   options.playback_speed = args.playback_speed;
   options.prefetch = !args.no_prefetch;
+  options.estimate_vignette = !args.no_vignette_estimation;
   const std::string photometric_note = applyPhotometricMode(index, &o);  // before the user's
   const std::string pattern_note = applyCropPatternSpread(index, options, &o);  // likewise
   const int crop_pattern_spread = o.pattern_spread;
@@ -114,6 +118,12 @@ void runOdometry(const RunArguments& args) {
     std::cerr << "note: " << photometric_note << "\n";
   if (!pattern_note.empty() && o.pattern_spread == crop_pattern_spread)
     std::cerr << "note: " << pattern_note << "\n";
+  if (run.vignette_estimate) {
+    std::cerr << "note: " << vignetteEstimateNote(*run.vignette_estimate) << "\n";
+    if (run.vignette_estimate->valid)
+      writeVignette(out.path() + "/vignette_estimated.png",
+                    run.vignette_estimate->map(run.source.width(), run.source.height()));
+  }
   const Odometry& odometry = *run.odometry;
   const size_t total = run.frames_processed;
   RunDescription description;
@@ -131,6 +141,7 @@ void runOdometry(const RunArguments& args) {
   description.frames_processed = total;
   description.wall_s = run.wall_s;
   description.settings = odometrySettingsJson(o);
+  if (run.vignette_estimate) description.vignette_estimate = vignetteEstimateJson(*run.vignette_estimate);
   const nlohmann::json summary =
       writeRunOutputs(out.path(), index, ground_truth, odometry, description, points);
   out.commit();
@@ -196,6 +207,9 @@ void registerRunCommand(CLI::App& app) {
   cmd->add_flag("--no-prefetch", args->no_prefetch,
                 "read each image when it is due instead of the next one while a frame is "
                 "processed (the same trajectory; for timing the odometry alone)");
+  cmd->add_flag("--no-vignette-estimation", args->no_vignette_estimation,
+                "without vignette.png, take the images as unvignetted instead of estimating the "
+                "vignette from the frames");
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--json", args->json, "print the summary as JSON");
   cmd->callback([args] { runOdometry(*args); });

@@ -137,7 +137,8 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
   };
   s["settings"]["photometric"] = {{"exposure_times", exposureTimesKnown(index)},
                                   {"inverse_response", pathOrNull(index.pcalib_path)},
-                                  {"vignette", pathOrNull(index.vignette_path)}};
+                                  {"vignette", pathOrNull(index.vignette_path)},
+                                  {"vignette_estimate", d.vignette_estimate}};
   s["counts"] = {{"frames", d.frames_processed},
                  {"tracked_frames", all_frames.size()},
                  {"keyframes", all_keyframes.size()},

@@ -1,6 +1,7 @@
 #pragma once
 // The odometry over a dataset, as `omnidso run` does it and as the end-to-end tests do it:
-// every frame is read, corrected photometrically (pcalib.txt, vignette.png), rectified when
+// every frame is read, corrected photometrically (pcalib.txt, vignette.png — or, without it, a
+// vignette estimated from the frames: dataset_vignette.hpp), rectified when
 // the calibration has distortion or a pinhole crop is asked for (`pinhole-crop:FOV_DEG`, the
 // paper's "DSO with the pinhole model" baseline), and fed to omnidso::Odometry.
 
@@ -8,6 +9,7 @@
 #include <memory>
 #include <omnidso/cameras/camera.hpp>
 #include <omnidso/core/dataset.hpp>
+#include <omnidso/core/vignette_estimation.hpp>
 #include <omnidso/frontend/odometry.hpp>
 #include <optional>
 #include <string>
@@ -31,6 +33,9 @@ struct DatasetRunOptions {
   // trajectory is the same bit for bit; only the wall time changes (reading and resampling
   // were ≈ 10 % of a run). false reads each frame when it is due, on the calling thread.
   bool prefetch = true;
+  // Without vignette.png, estimate the vignette from the frames (dataset_vignette.hpp) and
+  // divide it out; false takes the images as unvignetted.
+  bool estimate_vignette = true;
   OdometryOptions odometry;
   std::function<void(size_t done, size_t total, const Odometry&)> progress;
   // Optional: receives every point that leaves the window (Odometry::setRetiredPointSink).
@@ -41,6 +46,7 @@ struct DatasetRun {
   Camera source;  // the dataset's calibration
   Camera camera;  // what the odometry runs on
   std::unique_ptr<Odometry> odometry;
+  std::optional<VignetteEstimate> vignette_estimate;  // set when one was attempted
   size_t frames_processed = 0;
   double wall_s = 0.0;
 };

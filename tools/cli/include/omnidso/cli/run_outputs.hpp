@@ -38,6 +38,7 @@ struct RunDescription {
   size_t frames_processed = 0;
   double wall_s = 0.0;
   nlohmann::json settings = nlohmann::json::object();  // every odometry setting (odometry_settings.hpp)
+  nlohmann::json vignette_estimate = nullptr;  // dataset_vignette.hpp; null when none was tried
 };
 
 // ground_truth: the camera poses (synth::cameraGroundTruth), read by the caller before the
