@@ -67,6 +67,7 @@ TEST(AblationPlanTest, RunArgumentsCarryTheCellAndThePassThroughOptions) {
   spec.pass_through.points = 800;
   spec.pass_through.max_frames = 50;
   spec.pass_through.no_intrinsics_opt = true;
+  spec.pass_through.no_vignette_estimation = true;
   spec.pass_through.settings = {"window.max_iterations=10", "epipolar.min_quality=4"};
   const AblationPlan plan = planAblation(spec, "out");
   const PlannedRun& run = plan.runs[4 * 3];  // cell 4: seqA, pinhole-crop:90, N_f 5
@@ -80,6 +81,11 @@ TEST(AblationPlanTest, RunArgumentsCarryTheCellAndThePassThroughOptions) {
   EXPECT_TRUE(contains(a, {"--max-frames", "50"}));
   EXPECT_TRUE(contains(a, {"--no-intrinsics-opt"}));
   EXPECT_EQ(run.settings["optimize_intrinsics"], false);
+  EXPECT_TRUE(contains(a, {"--no-vignette-estimation"}));
+  EXPECT_EQ(run.settings["vignette_estimation"], false);
+  // Left at its default the flag is not in the settings, which then match the runs of
+  // ablations made before it existed (resume compares them).
+  EXPECT_FALSE(planAblation(exampleSpec(), "out").runs[0].settings.contains("vignette_estimation"));
   // Odometry settings reach every run in order, and are part of what resume compares.
   EXPECT_TRUE(contains(a, {"--set", "window.max_iterations=10", "--set", "epipolar.min_quality=4"}));
   EXPECT_EQ(run.settings["settings"][1], "epipolar.min_quality=4");

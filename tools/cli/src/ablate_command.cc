@@ -293,6 +293,7 @@ void registerAblateCommand(CLI::App& app) {
   cmd->add_option("--max-frames", p.max_frames, "passed to every run (0 = all)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--no-intrinsics-opt", p.no_intrinsics_opt, "passed to every run");
+  cmd->add_flag("--no-vignette-estimation", p.no_vignette_estimation, "passed to every run");
   cmd->add_option("--threads", p.threads,
                   "passed to every run: 1 deterministic, N > 1 real-time mode with N Ceres threads")
       ->check(CLI::Range(1, 64))

@@ -14,6 +14,7 @@ nlohmann::json passThroughJson(const RunPassThrough& p) {
   return {{"points", p.points},
           {"max_frames", p.max_frames},
           {"no_intrinsics_opt", p.no_intrinsics_opt},
+          {"no_vignette_estimation", p.no_vignette_estimation},
           {"threads", p.threads},
           {"residuals", p.residuals},
           {"config", p.config},
@@ -25,6 +26,7 @@ RunPassThrough passThroughFromJson(const nlohmann::json& j) {
   p.points = j.at("points").get<int>();
   p.max_frames = j.at("max_frames").get<int>();
   p.no_intrinsics_opt = j.at("no_intrinsics_opt").get<bool>();
+  p.no_vignette_estimation = j.value("no_vignette_estimation", false);  // older manifests: off
   p.threads = j.at("threads").get<int>();
   p.residuals = j.at("residuals").get<std::string>();
   p.config = j.at("config").get<std::string>();

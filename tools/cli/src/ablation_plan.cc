@@ -47,13 +47,14 @@ std::vector<std::string> runArguments(const AblationCell& cell, const RunPassThr
   for (const auto& [name, value] : options) a.insert(a.end(), {name, value});
   if (p.max_frames > 0) a.insert(a.end(), {"--max-frames", std::to_string(p.max_frames)});
   if (p.no_intrinsics_opt) a.push_back("--no-intrinsics-opt");
+  if (p.no_vignette_estimation) a.push_back("--no-vignette-estimation");
   if (!p.config.empty()) a.insert(a.end(), {"--config", p.config});
   for (const std::string& setting : p.settings) a.insert(a.end(), {"--set", setting});
   return a;
 }
 
 nlohmann::json runSettings(const AblationCell& cell, const RunPassThrough& p, std::uint64_t seed) {
-  return {{"dataset", cell.dataset_name},
+  nlohmann::json j = {{"dataset", cell.dataset_name},
           {"camera_model", cell.camera_model},
           {"keyframes", cell.keyframes},
           {"seed", seed},
@@ -64,6 +65,9 @@ nlohmann::json runSettings(const AblationCell& cell, const RunPassThrough& p, st
           {"residuals", p.residuals},
           {"config", p.config},
           {"settings", p.settings}};
+  // Only when set, so that the runs of earlier ablations still match and resume.
+  if (p.no_vignette_estimation) j["vignette_estimation"] = false;
+  return j;
 }
 
 }  // namespace

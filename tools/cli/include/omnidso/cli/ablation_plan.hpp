@@ -22,6 +22,7 @@ struct RunPassThrough {
   int points = 2000;
   int max_frames = 0;  // 0: all
   bool no_intrinsics_opt = false;
+  bool no_vignette_estimation = false;
   int threads = 1;
   std::string residuals = "analytic";
   std::string config;                 // --config FILE (odometry settings), empty: none
