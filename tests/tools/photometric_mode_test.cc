@@ -61,6 +61,23 @@ TEST(PhotometricMode, OneMissingExposureTimeMakesThemUnknown) {
   EXPECT_FALSE(exposureTimesKnown(DatasetIndex{}));
 }
 
+// `omnidso run DATA --out DIR/NAME --quiet EXTRA…`, expected to succeed: its summary.json and
+// what it printed.
+std::pair<nlohmann::json, std::string> runOmnidso(const fs::path& data, const fs::path& dir,
+                                                  const std::string& name,
+                                                  const std::vector<std::string>& extra) {
+  ProcessSpec spec;
+  spec.argv = {OMNIDSO_EXECUTABLE, "run", data.string(), "--out", (dir / name).string(), "--quiet"};
+  spec.argv.insert(spec.argv.end(), extra.begin(), extra.end());
+  spec.log_path = (dir / (name + ".log")).string();
+  spec.timeout_s = 120;
+  const ProcessOutcome outcome = runProcesses({spec}, 1).front();
+  std::ifstream log(spec.log_path);
+  const std::string output((std::istreambuf_iterator<char>(log)), {});
+  EXPECT_TRUE(outcome.succeeded()) << name << ": " << outcome.describe() << "\n" << output;
+  return {nlohmann::json::parse(std::ifstream(dir / name / "summary.json")), output};
+}
+
 // As `omnidso run` applies it: the mode and the photometric files used are in summary.json's
 // settings, and --set overrides the mode.
 TEST(PhotometricMode, RunRecordsTheModeAndTheUsersSettingWins) {
@@ -85,18 +102,7 @@ TEST(PhotometricMode, RunRecordsTheModeAndTheUsersSettingWins) {
   std::ofstream(data / "times.txt") << stripped.str();
 
   auto run = [&](const std::string& name, std::vector<std::string> extra) {
-    ProcessSpec spec;
-    spec.argv = {OMNIDSO_EXECUTABLE, "run", data.string(), "--out", (tmp.path() / name).string(),
-                 "--quiet"};
-    spec.argv.insert(spec.argv.end(), extra.begin(), extra.end());
-    spec.log_path = (tmp.path() / (name + ".log")).string();
-    spec.timeout_s = 120;
-    const ProcessOutcome outcome = runProcesses({spec}, 1).front();
-    std::ifstream log(spec.log_path);
-    const std::string output((std::istreambuf_iterator<char>(log)), {});
-    EXPECT_TRUE(outcome.succeeded()) << name << ": " << outcome.describe() << "\n" << output;
-    const nlohmann::json summary =
-        nlohmann::json::parse(std::ifstream(tmp.path() / name / "summary.json"));
+    const auto [summary, output] = runOmnidso(data, tmp.path(), name, extra);
     // What the run had to work with: no exposure times, the rendered pcalib.txt and vignette.
     const nlohmann::json& photometric = summary.at("settings").at("photometric");
     EXPECT_FALSE(photometric.at("exposure_times").get<bool>());
@@ -128,18 +134,7 @@ TEST(VignetteEstimate, RunRecordsTheAttemptAndTheFlagSkipsIt) {
   synth::writeSyntheticDataset(sequence, data.string());
   fs::remove(data / "vignette.png");
   auto run = [&](const std::string& name, std::vector<std::string> extra) {
-    ProcessSpec spec;
-    spec.argv = {OMNIDSO_EXECUTABLE, "run", data.string(), "--out", (tmp.path() / name).string(),
-                 "--quiet"};
-    spec.argv.insert(spec.argv.end(), extra.begin(), extra.end());
-    spec.log_path = (tmp.path() / (name + ".log")).string();
-    spec.timeout_s = 120;
-    const ProcessOutcome outcome = runProcesses({spec}, 1).front();
-    std::ifstream log(spec.log_path);
-    const std::string output((std::istreambuf_iterator<char>(log)), {});
-    EXPECT_TRUE(outcome.succeeded()) << name << ": " << outcome.describe() << "\n" << output;
-    const nlohmann::json summary =
-        nlohmann::json::parse(std::ifstream(tmp.path() / name / "summary.json"));
+    const auto [summary, output] = runOmnidso(data, tmp.path(), name, extra);
     const nlohmann::json photometric = summary.at("settings").at("photometric");
     EXPECT_TRUE(photometric.at("vignette").is_null());
     return std::make_pair(photometric.at("vignette_estimate"), output);
