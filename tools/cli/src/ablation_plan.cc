@@ -55,16 +55,16 @@ std::vector<std::string> runArguments(const AblationCell& cell, const RunPassThr
 
 nlohmann::json runSettings(const AblationCell& cell, const RunPassThrough& p, std::uint64_t seed) {
   nlohmann::json j = {{"dataset", cell.dataset_name},
-          {"camera_model", cell.camera_model},
-          {"keyframes", cell.keyframes},
-          {"seed", seed},
-          {"points", p.points},
-          {"max_frames", p.max_frames},
-          {"optimize_intrinsics", !p.no_intrinsics_opt},
-          {"threads", p.threads},
-          {"residuals", p.residuals},
-          {"config", p.config},
-          {"settings", p.settings}};
+                      {"camera_model", cell.camera_model},
+                      {"keyframes", cell.keyframes},
+                      {"seed", seed},
+                      {"points", p.points},
+                      {"max_frames", p.max_frames},
+                      {"optimize_intrinsics", !p.no_intrinsics_opt},
+                      {"threads", p.threads},
+                      {"residuals", p.residuals},
+                      {"config", p.config},
+                      {"settings", p.settings}};
   // Only when set, so that the runs of earlier ablations still match and resume.
   if (p.no_vignette_estimation) j["vignette_estimation"] = false;
   return j;
