@@ -43,9 +43,10 @@ void addHat(double rho, double sign, int num_knots, Eigen::VectorXd* row) {
 double VignetteEstimate::at(double rho) const {
   if (!valid) return 1.0;
   const int k = static_cast<int>(knots.size()) - 1;
-  Eigen::VectorXd w = Eigen::VectorXd::Zero(k + 1);
-  addHat(rho, 1.0, k, &w);
-  return std::exp(w.dot(knots) - knots.maxCoeff());
+  const double s = std::clamp(rho, 0.0, 1.0) * k;  // addHat's weights, without a vector
+  const int j = std::min(static_cast<int>(s), k - 1);
+  const double f = s - j;
+  return std::exp((1.0 - f) * knots[j] + f * knots[j + 1] - knots.maxCoeff());
 }
 
 ImageF VignetteEstimate::map(int width, int height) const {
