@@ -53,6 +53,7 @@ void Odometry::Impl::trackFrame(FrameRecord& record, std::shared_ptr<const Image
   if (job.make_keyframe) frames_since_keyframe = 0;
   record.timing.tracking_ms = watch.lapMs();
   if (worker) {
+    if (job.make_keyframe) tracked_keyframe_affine[record.index] = tracking.affine;
     // A lagging mapper skips the search in non-keyframes (DSO does the same); keyframes
     // are always made.
     if (job.make_keyframe || worker->pending() < 2) worker->push([this, job] { map(job); });
@@ -89,6 +90,16 @@ void Odometry::Impl::adoptPublishedReference() {
   if (published.id == reference.id && published.tracker == reference.tracker) return;
   reference = published;
   first_rmse = std::numeric_limits<double>::infinity();
+  // The deterministic mode continues from the window's affine of each new keyframe (trackFrame).
+  // The real-time mode's frames have moved on by then, so they take the window's correction of
+  // the keyframe's affine instead: without exposure times the window's brightness is free and
+  // drifts, and a frame held (by the tracker's affine prior) to a brightness in the old gauge
+  // against a reference in the new one was misaligned until keyframes came every other frame
+  // and tracking was lost (docs/performance.md, "The real-time mode without exposure times").
+  const auto tracked = tracked_keyframe_affine.find(reference.id);
+  if (tracked != tracked_keyframe_affine.end()) last_affine += reference.affine - tracked->second;
+  tracked_keyframe_affine.erase(tracked_keyframe_affine.begin(),
+                                tracked_keyframe_affine.upper_bound(reference.id));
 }
 
 void Odometry::Impl::drainMapping() {
