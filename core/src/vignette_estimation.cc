@@ -29,24 +29,38 @@ cv::Mat trackingImage(const ImageF& image, double sigma) {
   return out;
 }
 
-// Linear interpolation weights of g at ρ: g(ρ) = Σ_j w_j g_j over the knots ρ_j = j / K.
-void addHat(double rho, double sign, int num_knots, Eigen::VectorXd* row) {
+// g is linear between the knots ρ_j = j / K: at ρ (clamped to [0, 1]) it is
+// (1 − f) g_j + f g_{j+1}, with the segment j and the fraction f returned here.
+struct KnotSegment {
+  int j;
+  double f;
+};
+KnotSegment knotSegment(double rho, int num_knots) {
   const double s = std::clamp(rho, 0.0, 1.0) * num_knots;
   const int j = std::min(static_cast<int>(s), num_knots - 1);
-  const double f = s - j;
-  (*row)[j] += sign * (1.0 - f);
-  (*row)[j + 1] += sign * f;
+  return {j, s - j};
+}
+
+// Adds sign × the interpolation weights of g at ρ to a row over g_0 … g_K.
+void addHat(double rho, double sign, int num_knots, Eigen::VectorXd* row) {
+  const KnotSegment k = knotSegment(rho, num_knots);
+  (*row)[k.j] += sign * (1.0 - k.f);
+  (*row)[k.j + 1] += sign * k.f;
+}
+
+// The element at position n/2 once sorted (the upper median for an even count).
+double upperMedian(std::vector<double> values) {
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2),
+                   values.end());
+  return values[values.size() / 2];
 }
 
 }  // namespace
 
 double VignetteEstimate::at(double rho) const {
   if (!valid) return 1.0;
-  const int k = static_cast<int>(knots.size()) - 1;
-  const double s = std::clamp(rho, 0.0, 1.0) * k;  // addHat's weights, without a vector
-  const int j = std::min(static_cast<int>(s), k - 1);
-  const double f = s - j;
-  return std::exp((1.0 - f) * knots[j] + f * knots[j + 1] - knots.maxCoeff());
+  const KnotSegment k = knotSegment(rho, static_cast<int>(knots.size()) - 1);
+  return std::exp((1.0 - k.f) * knots[k.j] + k.f * knots[k.j + 1] - knots.maxCoeff());
 }
 
 ImageF VignetteEstimate::map(int width, int height) const {
@@ -145,8 +159,7 @@ VignetteEstimate VignetteEstimator::solve() const {
   std::vector<double> radial(rows_.size());
   for (size_t i = 0; i < rows_.size(); ++i)
     radial[i] = std::abs(rows_[i].rho2 - rows_[i].rho1) * radius_;
-  std::nth_element(radial.begin(), radial.begin() + radial.size() / 2, radial.end());
-  const double median_radial_px = radial[radial.size() / 2];
+  const double median_radial_px = upperMedian(std::move(radial));
   if (median_radial_px < o.min_median_radial_motion_px) {
     std::ostringstream reason;
     reason << "the points hardly moved towards or away from the centre (median "
@@ -157,26 +170,25 @@ VignetteEstimate VignetteEstimator::solve() const {
   }
   // Rows a_i · g = y_i over the unknowns g_1 … g_K (g_0 = 0), each pair's mean removed.
   const int n = est.num_observations;
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, k);
+  Eigen::MatrixXd A(n, k);
   Eigen::VectorXd y(n);
   for (size_t start = 0; start < rows_.size();) {
     size_t end = start;
     while (end < rows_.size() && rows_[end].pair == rows_[start].pair) ++end;
-    Eigen::VectorXd mean_row = Eigen::VectorXd::Zero(k + 1);
-    double mean_y = 0.0;
-    std::vector<Eigen::VectorXd> full(end - start, Eigen::VectorXd::Zero(k + 1));
+    const auto count = static_cast<Eigen::Index>(end - start);
+    Eigen::MatrixXd block = Eigen::MatrixXd::Zero(count, k + 1);  // over g_0 … g_K
+    Eigen::VectorXd block_y(count);
     for (size_t i = start; i < end; ++i) {
-      addHat(rows_[i].rho2, 1.0, k, &full[i - start]);
-      addHat(rows_[i].rho1, -1.0, k, &full[i - start]);
-      mean_row += full[i - start];
-      mean_y += rows_[i].y;
+      Eigen::VectorXd row = Eigen::VectorXd::Zero(k + 1);
+      addHat(rows_[i].rho2, 1.0, k, &row);
+      addHat(rows_[i].rho1, -1.0, k, &row);
+      block.row(static_cast<Eigen::Index>(i - start)) = row.transpose();
+      block_y[static_cast<Eigen::Index>(i - start)] = rows_[i].y;
     }
-    mean_row /= static_cast<double>(end - start);
-    mean_y /= static_cast<double>(end - start);
-    for (size_t i = start; i < end; ++i) {
-      A.row(static_cast<Eigen::Index>(i)) = (full[i - start] - mean_row).tail(k).transpose();
-      y[static_cast<Eigen::Index>(i)] = rows_[i].y - mean_y;
-    }
+    block.rowwise() -= block.colwise().mean();
+    block_y.array() -= block_y.mean();
+    A.middleRows(static_cast<Eigen::Index>(start), count) = block.rightCols(k);
+    y.segment(static_cast<Eigen::Index>(start), count) = block_y;
     start = end;
   }
   // Second differences over g_0 … g_K (g_0 = 0 fixed): rows j = 1 … K−1 of the unknowns.
@@ -199,10 +211,8 @@ VignetteEstimate VignetteEstimator::solve() const {
   for (int it = 0; it < o.irls_iterations; ++it) {
     const Eigen::MatrixXd H = A.transpose() * weights.asDiagonal() * A + prior;
     g = H.ldlt().solve(A.transpose() * weights.cwiseProduct(y));
-    Eigen::VectorXd r = (y - A * g).cwiseAbs();
-    std::vector<double> sorted(r.data(), r.data() + n);
-    std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
-    est.residual_mad = sorted[static_cast<size_t>(n / 2)];
+    const Eigen::VectorXd r = (y - A * g).cwiseAbs();
+    est.residual_mad = upperMedian(std::vector<double>(r.data(), r.data() + n));
     const double threshold = 1.345 * 1.4826 * std::max(est.residual_mad, 1e-9);
     for (int i = 0; i < n; ++i) weights[i] = r[i] <= threshold ? 1.0 : threshold / r[i];
   }
