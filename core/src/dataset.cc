@@ -161,6 +161,14 @@ void verifyDatasetImages(const DatasetIndex& index, bool decode) {
   }
 }
 
+RawImage readDatasetRawFrame(const DatasetFrame& frame) {
+  try {
+    return readRawImage(frame.image_path);
+  } catch (const Error& e) {
+    throw fileError(frame.index_file, frame.index_line, e.what());
+  }
+}
+
 ImageU8 readDatasetFrame(const DatasetIndex& index, std::size_t i) {
   const DatasetFrame& frame = index.frames.at(i);
   const cv::Mat raw = cv::imread(frame.image_path, cv::IMREAD_UNCHANGED);

@@ -166,12 +166,7 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
   // Frame i as the odometry takes it (reads only what is const during the loop).
   auto load = [&](size_t i) {
     const DatasetFrame& frame = index.frames[i];
-    RawImage raw;
-    try {
-      raw = readRawImage(frame.image_path);
-    } catch (const Error& e) {  // point at the index line that lists the image too
-      throw fileError(frame.index_file, frame.index_line, e.what());
-    }
+    const RawImage raw = readDatasetRawFrame(frame);
     if (raw.pixels.width() != source.width() || raw.pixels.height() != source.height())
       throw Error(frame.image_path + ": image is " + std::to_string(raw.pixels.width()) + "x" +
                   std::to_string(raw.pixels.height()) + ", expected " +

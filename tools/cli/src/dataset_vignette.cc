@@ -3,22 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
-#include <omnidso/core/error.hpp>
-#include <omnidso/core/image_io.hpp>
 #include <sstream>
 
 namespace omnidso::cli {
-namespace {
-
-RawImage readFrame(const DatasetFrame& frame) {
-  try {
-    return readRawImage(frame.image_path);
-  } catch (const Error& e) {  // point at the index line that lists the image too
-    throw fileError(frame.index_file, frame.index_line, e.what());
-  }
-}
-
-}  // namespace
 
 VignetteEstimate estimateDatasetVignette(const DatasetIndex& index, size_t num_frames,
                                          const Camera& source, const Mask& content,
@@ -36,8 +23,8 @@ VignetteEstimate estimateDatasetVignette(const DatasetIndex& index, size_t num_f
     for (size_t j = 0; j < pairs; ++j) {
       // First frames of the pairs, evenly from 0 to num_frames − 2.
       const size_t i = pairs == 1 ? 0 : j * (num_frames - 2) / (pairs - 1);
-      const ImageF first = response_only.correct(readFrame(index.frames[i]));
-      const ImageF second = response_only.correct(readFrame(index.frames[i + 1]));
+      const ImageF first = response_only.correct(readDatasetRawFrame(index.frames[i]));
+      const ImageF second = response_only.correct(readDatasetRawFrame(index.frames[i + 1]));
       if (first.width() != source.width() || first.height() != source.height() ||
           second.width() != source.width() || second.height() != source.height())
         continue;  // the run itself reports the wrong size, naming the frame

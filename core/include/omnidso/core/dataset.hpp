@@ -22,6 +22,7 @@
 #include <vector>
 
 #include <omnidso/core/image.hpp>
+#include <omnidso/core/image_io.hpp>
 
 namespace omnidso {
 
@@ -90,6 +91,10 @@ void verifyDatasetImages(const DatasetIndex& index, bool decode = false);
 // Decodes frame i as 8-bit grey (16-bit images are scaled by 1/257); throws when the
 // image is unreadable or its size differs from the index's.
 ImageU8 readDatasetFrame(const DatasetIndex& index, std::size_t i);
+
+// The frame's image as stored (image_io.hpp, readRawImage); a read error names the index
+// line that lists the image too.
+RawImage readDatasetRawFrame(const DatasetFrame& frame);
 
 // Time span (last − first timestamp) and mean frame rate (frames−1 over the span).
 double datasetDuration(const DatasetIndex& index);
