@@ -28,6 +28,17 @@ struct CoarseTracker::Impl {
 
   Impl(const Camera& c, CoarseTrackerOptions o) : camera(c), options(std::move(o)) {}
 
+  // The frame's [a, b] in the reference's gauge, b' = b − s b_ref, and back (header, "The
+  // affine gauge"); s = t e^a / (t_ref e^a_ref) is the same in both, a unchanged.
+  Eigen::Vector2d toReferenceGauge(const Eigen::Vector2d& ab, double frame_exposure) const {
+    const double s = frame_exposure / exposure * std::exp(ab.x() - affine.x());
+    return {ab.x(), ab.y() - s * affine.y()};
+  }
+  Eigen::Vector2d fromReferenceGauge(const Eigen::Vector2d& ab, double frame_exposure) const {
+    const double s = frame_exposure / exposure * std::exp(ab.x() - affine.x());
+    return {ab.x(), ab.y() + s * affine.y()};
+  }
+
   template <template <typename> class M>
   TrackingLevelSolve solveLevel(ModelTag<M>, const M<double>& model, int level,
                                 const ImagePyramid& frame, double frame_exposure, double* pose,
@@ -168,7 +179,7 @@ struct CoarseTracker::Impl {
         if (!obs) continue;
         obs->host_exposure = exposure;
         obs->host_a = affine.x();
-        obs->host_b = affine.y();
+        obs->host_b = 0.0;  // the reference's gauge
         observations[level].push_back(*obs);
         pixels[level].push_back(pixel);
         inverse_distances[level].push_back(d);
@@ -229,13 +240,14 @@ TrackingLevelSolve CoarseTracker::solveLevel(const ImagePyramid& frame, double e
     return {};
   std::array<double, 7> pose;
   T_frame_ref->toParameters(pose.data());
-  std::array<double, 2> ab = {affine->x(), affine->y()};
+  const Eigen::Vector2d start = impl_->toReferenceGauge(*affine, exposure);
+  std::array<double, 2> ab = {start.x(), start.y()};
   const TrackingLevelSolve out =
       withResidualModel<TrackingLevelSolve>(impl_->camera, [&](auto tag, const auto& model) {
         return impl_->solveLevel(tag, model, level, frame, exposure, pose.data(), ab.data(), true);
       });
   *T_frame_ref = SE3d::fromParameters(pose.data());
-  *affine = Eigen::Vector2d(ab[0], ab[1]);
+  *affine = impl_->fromReferenceGauge(Eigen::Vector2d(ab[0], ab[1]), exposure);
   return out;
 }
 
@@ -270,12 +282,13 @@ TrackingResult CoarseTracker::track(const ImagePyramid& frame, double exposure,
   const int levels = std::min<int>(impl_->observations.size(), frame.numLevels());
   std::vector<double> best_coarse_rmse(levels, std::numeric_limits<double>::infinity());
   double best_final = std::numeric_limits<double>::infinity();
+  const Eigen::Vector2d start = impl_->toReferenceGauge(affine_guess, exposure);
   withResidualModel<void>(impl_->camera, [&](auto tag, const auto& model) {
     for (const SE3d& hypothesis : hypotheses) {
       ++best.hypotheses_tried;
       std::array<double, 7> pose;
       hypothesis.toParameters(pose.data());
-      std::array<double, 2> affine = {affine_guess.x(), affine_guess.y()};
+      std::array<double, 2> affine = {start.x(), start.y()};
       std::vector<double> level_rmse(levels, std::numeric_limits<double>::infinity());
       bool rejected = false;
       TrackingLevelSolve finest;
@@ -296,7 +309,7 @@ TrackingResult CoarseTracker::track(const ImagePyramid& frame, double exposure,
         best_final = finest.rmse;
         best.ok = true;
         best.T_frame_ref = SE3d::fromParameters(pose.data());
-        best.affine = Eigen::Vector2d(affine[0], affine[1]);
+        best.affine = impl_->fromReferenceGauge(Eigen::Vector2d(affine[0], affine[1]), exposure);
         best.level_rmse = level_rmse;
         best.rmse = finest.rmse;
         best.valid_fraction = finest.valid_fraction;

@@ -18,6 +18,19 @@
 // Success: enough points stay valid and the final error is finite.
 // Flow statistics for the keyframe decision (DSO): RMS pixel shift of the points under the
 // translation alone (flow_t) and under the full motion (flow_rt), at level 0.
+//
+// The affine gauge. The residual (tracking_residual.hpp) compares I_j − b_j with
+// s (I_ref − b_ref), s = t_j e^{a_j} / (t_ref e^{a_ref}): only the transfer (s, b_j − s b_ref)
+// is seen by the data. The window's [a, b] are defined up to a common brightness transform,
+// and without exposure times, where its ties to 0 are dropped, that gauge drifts: on a
+// forward path (the held-out H7, uncalibrated) b_ref reached 60–120 intensity units within
+// 150 frames. The tracker therefore solves in the reference's own gauge, where b_ref = 0 and
+// the frame's offset is b' = b_j − s b_ref, and converts back; its prior then ties the
+// transfer (a_j and the offset b') to the guess. Tied in the window's gauge instead, a
+// frame's b_j held at the reference's b_ref turned every gain change s into a uniform
+// brightness error (1 − s) b_ref — a pivot at b_ref instead of at black — which the
+// alignment met by moving the frame (docs/performance.md, "The tracker's affine gauge").
+// With exposure times the window ties b to 0 and the two gauges coincide.
 
 #include <Eigen/Core>
 #include <limits>
@@ -48,14 +61,15 @@ struct CoarseTrackerOptions {
   double min_valid_fraction = 0.3;
   double rotation_hypothesis_rad = 0.04;
   int num_threads = 1;
-  // Gaussian priors pulling the frame's affine [a, b] towards the guess. With calibrated
-  // exposure times and response (DSO's photometric mode) the brightness model needs no
-  // correction, so DSO ties them almost rigidly: a free (a, b) otherwise absorbs the
-  // contrast loss of bilinear interpolation at high-gradient pixels (a few percent, a < 0).
-  // Weights in energy per unit². The guess is the previous frame's [a, b], so without exposure
-  // times the tie is one of smoothness between consecutive frames and stays (freeing it too
-  // lost D2's tracking in one of three seeds: docs/performance.md, "Without exposure times");
-  // it is the window's tie to 0 that such data drops (cli::applyPhotometricMode).
+  // Gaussian priors pulling the frame's affine [a, b'] (b' in the reference's gauge, above)
+  // towards the guess. With calibrated exposure times and response (DSO's photometric mode)
+  // the brightness model needs no correction, so DSO ties them almost rigidly: a free (a, b)
+  // otherwise absorbs the contrast loss of bilinear interpolation at high-gradient pixels (a
+  // few percent, a < 0). Weights in energy per unit². The guess is the previous frame's, so
+  // without exposure times the tie is one of smoothness between consecutive frames and stays
+  // (freeing it too lost D2's tracking in one of three seeds: docs/performance.md, "Without
+  // exposure times"); it is the window's tie to 0 that such data drops
+  // (cli::applyPhotometricMode).
   double affine_prior_weight_a = 1e8;
   double affine_prior_weight_b = 1e6;
   // Solve each level with the native Levenberg–Marquardt solver (tracker_solver.hpp) instead
