@@ -28,13 +28,16 @@ struct CoarseTracker::Impl {
 
   Impl(const Camera& c, CoarseTrackerOptions o) : camera(c), options(std::move(o)) {}
 
-  // The frame's [a, b] in the reference's gauge, b' = b − s b_ref, and back (header, "The
-  // affine gauge"); s = t e^a / (t_ref e^a_ref) is the same in both, a unchanged.
+  // With `affine_in_reference_gauge`, the frame's [a, b] in the reference's gauge,
+  // b' = b − s b_ref, and back (header, "The affine gauge"); s = t e^a / (t_ref e^a_ref) is the
+  // same in both, a unchanged. Without it the tracker works in the window's gauge.
   Eigen::Vector2d toReferenceGauge(const Eigen::Vector2d& ab, double frame_exposure) const {
+    if (!options.affine_in_reference_gauge) return ab;
     const double s = frame_exposure / exposure * std::exp(ab.x() - affine.x());
     return {ab.x(), ab.y() - s * affine.y()};
   }
   Eigen::Vector2d fromReferenceGauge(const Eigen::Vector2d& ab, double frame_exposure) const {
+    if (!options.affine_in_reference_gauge) return ab;
     const double s = frame_exposure / exposure * std::exp(ab.x() - affine.x());
     return {ab.x(), ab.y() + s * affine.y()};
   }
@@ -179,7 +182,7 @@ struct CoarseTracker::Impl {
         if (!obs) continue;
         obs->host_exposure = exposure;
         obs->host_a = affine.x();
-        obs->host_b = 0.0;  // the reference's gauge
+        obs->host_b = options.affine_in_reference_gauge ? 0.0 : affine.y();
         observations[level].push_back(*obs);
         pixels[level].push_back(pixel);
         inverse_distances[level].push_back(d);

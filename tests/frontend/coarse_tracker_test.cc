@@ -71,14 +71,14 @@ TEST_P(CoarseTrackerTest, RecoversRelativePoseOfRenderedPair) {
 INSTANTIATE_TEST_SUITE_P(Models, CoarseTrackerTest, ::testing::Values("ucm", "pinhole"));
 
 // The affine gauge (coarse_tracker.hpp): only the transfer from the reference — the gain
-// s = e^{a_j − a_ref} and the offset b_j − s b_ref — is seen by the data, so the tracker's
-// result must not depend on the gauge the window's [a, b] happen to be in. Here the frame is
+// s = e^{a_j − a_ref} and the offset b_j − s b_ref — is seen by the data. Here the frame is
 // the reference scene 5 % brighter (a pure gain, as an exposure change seen through a
 // power-law response), the guess is the reference's own [a, b] (as after a keyframe), and the
 // prior on a is weak enough for a to follow the gain. The reference is given in the gauge
-// [0, 0] and in a drifted one, [−0.9, 60] (the window's gauge on the uncalibrated H7 after 150
-// frames): the two must find the same pose and transfer, up to rounding. Tied in the window's
-// gauge, b_j stayed at 60 and the offset became (1 − s) · 60 ≈ −3 intensity units.
+// [0, 0] and in a drifted one, [−0.9, 60] (the window's on the uncalibrated H7 after 150
+// frames). With `affine_in_reference_gauge` the two find the same pose and transfer, up to
+// rounding. Without it (the default) the frame's b stays at the reference's 60 and the gain
+// turns about it: the offset is (1 − s) · 60 ≈ −3.5 intensity units.
 TEST(CoarseTrackerAffine, TheTransferDoesNotDependOnTheReferenceGauge) {
   const Camera camera = synth::syntheticCamera("ucm", 185.0, 320, 320);
   const test::RenderedScene scene(camera, 11);
@@ -102,6 +102,7 @@ TEST(CoarseTrackerAffine, TheTransferDoesNotDependOnTheReferenceGauge) {
   ASSERT_GT(points.size(), 500u);
   CoarseTrackerOptions options;
   options.affine_prior_weight_a = 1e2;  // a follows the gain; b keeps its default tie
+  options.affine_in_reference_gauge = true;
   struct Transfer {
     SE3d T_frame_ref;
     double gain, offset;
@@ -131,6 +132,11 @@ TEST(CoarseTrackerAffine, TheTransferDoesNotDependOnTheReferenceGauge) {
   const PoseError between = poseError(drifted.T_frame_ref, plain.T_frame_ref);
   EXPECT_LT(between.translation_m, 1e-7);
   EXPECT_LT(between.rotation_deg, 1e-5);
+
+  options.affine_in_reference_gauge = false;
+  const Transfer window_gauge = track(Eigen::Vector2d(-0.9, 60.0));
+  EXPECT_NEAR(window_gauge.offset, (1.0 - window_gauge.gain) * 60.0, 0.1);
+  EXPECT_GT(std::abs(window_gauge.offset), 2.0);
 }
 
 // A fisheye image holds the scene in a disc and is black outside it (content_mask.hpp). When

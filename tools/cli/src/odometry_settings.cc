@@ -63,6 +63,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"tracker.rotation_hypothesis_rad", &o.tracker.rotation_hypothesis_rad},
       {"tracker.affine_prior_weight_a", &o.tracker.affine_prior_weight_a},
       {"tracker.affine_prior_weight_b", &o.tracker.affine_prior_weight_b},
+      {"tracker.affine_in_reference_gauge", &o.tracker.affine_in_reference_gauge},
       {"tracker.native_solver", &o.tracker.native_solver},
       {"epipolar.max_search_px", &o.epipolar.max_search_px},
       {"epipolar.converged_px", &o.epipolar.converged_px},

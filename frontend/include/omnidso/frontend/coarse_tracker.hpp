@@ -21,16 +21,18 @@
 //
 // The affine gauge. The residual (tracking_residual.hpp) compares I_j − b_j with
 // s (I_ref − b_ref), s = t_j e^{a_j} / (t_ref e^{a_ref}): only the transfer (s, b_j − s b_ref)
-// is seen by the data. The window's [a, b] are defined up to a common brightness transform,
-// and without exposure times, where its ties to 0 are dropped, that gauge drifts: on a
-// forward path (the held-out H7, uncalibrated) b_ref reached 60–120 intensity units within
-// 150 frames. The tracker therefore solves in the reference's own gauge, where b_ref = 0 and
-// the frame's offset is b' = b_j − s b_ref, and converts back; its prior then ties the
-// transfer (a_j and the offset b') to the guess. Tied in the window's gauge instead, a
-// frame's b_j held at the reference's b_ref turned every gain change s into a uniform
-// brightness error (1 − s) b_ref — a pivot at b_ref instead of at black — which the
-// alignment met by moving the frame (docs/performance.md, "The tracker's affine gauge").
-// With exposure times the window ties b to 0 and the two gauges coincide.
+// is seen by the data, but the affine prior below ties [a_j, b_j] themselves to the guess.
+// With exposure times the window ties every b to 0 and that is the same. Without them the
+// window's [a, b] drift: on the uncalibrated forward path H7, a to −1.9 and b to 60–120
+// intensity units (each new keyframe's contrast a few percent low, b making up the mean).
+// A frame's b_j then held at b_ref makes a gain change s a brightness change about b_ref
+// instead of about black: a uniform error (1 − s) b_ref. `affine_in_reference_gauge` solves
+// instead for b' = b_j − s b_ref (the reference's b taken as 0) and converts back, so that the
+// prior ties the transfer and the result does not depend on the window's gauge. It is a
+// setting, off: on H7 without calibration it helped (median of five seeds 3.9 → 0.5 %), on
+// the development set's uncalibrated D2 crop it hurt (0.06 → 0.13 %, seven seeds), and
+// calibrated data only moved within its seed spread (docs/performance.md, "The tracker's
+// affine gauge").
 
 #include <Eigen/Core>
 #include <limits>
@@ -61,7 +63,10 @@ struct CoarseTrackerOptions {
   double min_valid_fraction = 0.3;
   double rotation_hypothesis_rad = 0.04;
   int num_threads = 1;
-  // Gaussian priors pulling the frame's affine [a, b'] (b' in the reference's gauge, above)
+  // Solve for the frame's offset in the reference's gauge (above). Setting
+  // `tracker.affine_in_reference_gauge`.
+  bool affine_in_reference_gauge = false;
+  // Gaussian priors pulling the frame's affine [a, b] (b' with `affine_in_reference_gauge`)
   // towards the guess. With calibrated exposure times and response (DSO's photometric mode)
   // the brightness model needs no correction, so DSO ties them almost rigidly: a free (a, b)
   // otherwise absorbs the contrast loss of bilinear interpolation at high-gradient pixels (a
