@@ -22,6 +22,24 @@ PoseError poseError(const SE3d& a, const SE3d& b) {
   return {d.translation().norm(), so3Log(d.rotation()).norm() * 180.0 / M_PI};
 }
 
+// The reference's points: DSO's selection on the reference image inside `usable`, with the
+// scene's true inverse distances.
+std::vector<TrackingReferencePoint> referencePoints(const Camera& camera,
+                                                    const test::RenderedScene& scene,
+                                                    const SE3d& T_world_ref,
+                                                    const ImagePyramid& ref, const Mask& usable) {
+  PixelSelectorOptions selection;
+  selection.desired_points = 1500;
+  std::vector<TrackingReferencePoint> points;
+  for (const SelectedPixel& p : selectPixels(ref, usable, selection)) {
+    Eigen::Vector3d bearing;
+    if (!camera.unproject(p.pixel.cast<double>(), bearing)) continue;
+    const auto rho = scene.distance(T_world_ref, bearing);
+    if (rho) points.push_back({p.pixel.cast<double>(), 1.0 / *rho});
+  }
+  return points;
+}
+
 class CoarseTrackerTest : public ::testing::TestWithParam<std::string> {};
 
 // Noise-free images, exact distances for the reference points. What limits the accuracy is
@@ -38,15 +56,8 @@ TEST_P(CoarseTrackerTest, RecoversRelativePoseOfRenderedPair) {
   auto ref = scene.renderPyramid(T_world_ref);
   const ImagePyramid frame(scene.render(T_world_frame), 5);
 
-  PixelSelectorOptions selection;
-  selection.desired_points = 1500;
-  std::vector<TrackingReferencePoint> points;
-  for (const SelectedPixel& p : selectPixels(*ref, validityMask(camera), selection)) {
-    Eigen::Vector3d bearing;
-    if (!camera.unproject(p.pixel.cast<double>(), bearing)) continue;
-    const auto rho = scene.distance(T_world_ref, bearing);
-    if (rho) points.push_back({p.pixel.cast<double>(), 1.0 / *rho});
-  }
+  const std::vector<TrackingReferencePoint> points =
+      referencePoints(camera, scene, T_world_ref, *ref, validityMask(camera));
   ASSERT_GT(points.size(), 500u);
   double mean_inverse_distance = 0.0;
   for (const auto& p : points) mean_inverse_distance += p.inverse_distance / points.size();
@@ -90,15 +101,8 @@ TEST(CoarseTrackerAffine, TheTransferDoesNotDependOnTheReferenceGauge) {
   for (size_t i = 0; i < frame_image.size(); ++i) frame_image.data()[i] *= gain;
   const ImagePyramid frame(frame_image, 5);
 
-  PixelSelectorOptions selection;
-  selection.desired_points = 1500;
-  std::vector<TrackingReferencePoint> points;
-  for (const SelectedPixel& p : selectPixels(*ref, validityMask(camera), selection)) {
-    Eigen::Vector3d bearing;
-    if (!camera.unproject(p.pixel.cast<double>(), bearing)) continue;
-    const auto rho = scene.distance(T_world_ref, bearing);
-    if (rho) points.push_back({p.pixel.cast<double>(), 1.0 / *rho});
-  }
+  const std::vector<TrackingReferencePoint> points =
+      referencePoints(camera, scene, T_world_ref, *ref, validityMask(camera));
   ASSERT_GT(points.size(), 500u);
   CoarseTrackerOptions options;
   options.affine_prior_weight_a = 1e2;  // a follows the gain; b keeps its default tie
@@ -171,16 +175,9 @@ TEST(CoarseTrackerContent, TargetsOutsideTheImageCircleDoNotHoldBackATurn) {
   const ImagePyramid masked(frame_image, levels,
                             std::make_shared<const std::vector<Mask>>(contentPyramid(content, levels)));
 
-  PixelSelectorOptions selection;
-  selection.desired_points = 1500;
-  std::vector<TrackingReferencePoint> points;
   const Mask usable = erodeContent(content, (1 << levels) + 3);  // the odometry's margin
-  for (const SelectedPixel& p : selectPixels(*ref, usable, selection)) {
-    Eigen::Vector3d bearing;
-    if (!camera.unproject(p.pixel.cast<double>(), bearing)) continue;
-    const auto rho = scene.distance(T_world_ref, bearing);
-    if (rho) points.push_back({p.pixel.cast<double>(), 1.0 / *rho});
-  }
+  const std::vector<TrackingReferencePoint> points =
+      referencePoints(camera, scene, T_world_ref, *ref, usable);
   ASSERT_GT(points.size(), 500u);
   CoarseTrackerOptions options;
   options.num_levels = levels;
