@@ -94,6 +94,25 @@ std::optional<WindowProblem> SlidingWindow::nativeProblem() {
   return native;
 }
 
+std::optional<WindowProblem> SlidingWindow::firstEstimateProblem(const WindowProblem& problem) {
+  WindowProblem first_estimate = problem;
+  first_estimate_values_.clear();
+  first_estimate_values_.reserve(2 * problem.frames.size() + 1);  // the pointers stay valid
+  auto atFirstEstimate = [&](double* block) {
+    const Eigen::VectorXd* x_bar = marginalizer_.linearizationPoint(block);
+    if (!x_bar) return block;
+    first_estimate_values_.push_back(*x_bar);
+    return first_estimate_values_.back().data();
+  };
+  for (WindowFrame& frame : first_estimate.frames) {
+    frame.pose = atFirstEstimate(frame.pose);
+    frame.affine = atFirstEstimate(frame.affine);
+  }
+  first_estimate.intrinsics = atFirstEstimate(first_estimate.intrinsics);
+  if (first_estimate_values_.empty()) return std::nullopt;  // no prior yet: x̄ = x
+  return first_estimate;
+}
+
 WindowSolveSummary SlidingWindow::solveNative(const WindowProblem& problem,
                                               WindowSolveSummary out) {
   WindowSolverOptions options;
@@ -102,7 +121,10 @@ WindowSolveSummary SlidingWindow::solveNative(const WindowProblem& problem,
   options.max_solver_time_in_seconds = options_.max_solver_time_s;
   const Stopwatch watch;
   if (!solver_workspace_) solver_workspace_ = std::make_unique<WindowSolverWorkspace>();
-  WindowSolverSummary s = solveWindow(problem, options, solver_workspace_.get());
+  const std::optional<WindowProblem> first_estimate =
+      options_.first_estimate_jacobians ? firstEstimateProblem(problem) : std::nullopt;
+  WindowSolverSummary s = solveWindow(problem, options, solver_workspace_.get(),
+                                      first_estimate ? &*first_estimate : nullptr);
   all_residuals_valid_ = false;
   solved_energies_ = std::move(s.residual_energies);
   solved_fingerprint_ = solved_energies_.empty() ? std::vector<double>{} : energyFingerprint();

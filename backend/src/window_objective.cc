@@ -76,11 +76,14 @@ bool WindowPrior::fixed() const {
 }
 
 bool evaluateWindow(const WindowProblem& problem, WindowNormalEquations* equations,
-                    WindowCost* cost, std::vector<double>* energies) {
+                    WindowCost* cost, std::vector<double>* energies,
+                    const WindowProblem* first_estimate) {
   if (equations)
     equations->reset(problem.frameSpaceSize(), static_cast<int>(problem.points.size()));
   *cost = WindowCost{};
-  cost->variable = problem.photometric->evaluate(problem, equations, energies);
+  cost->variable = first_estimate && equations
+                       ? problem.photometric->evaluateAt(problem, *first_estimate, equations, energies)
+                       : problem.photometric->evaluate(problem, equations, energies);
   for (const WindowPrior& prior : problem.priors)
     if (!addPrior(prior, equations, cost)) return false;
   return true;

@@ -52,8 +52,14 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
 
   void linearizeAt(const WindowProblem& current, const WindowProblem& first_estimate,
                    WindowNormalEquations* equations) override {
-    evaluatePass(current, nullptr, nullptr, ResidualSource::kKeep);
-    evaluatePass(first_estimate, equations, nullptr, ResidualSource::kKept);
+    evaluateAt(current, first_estimate, equations, nullptr);
+  }
+
+  double evaluateAt(const WindowProblem& current, const WindowProblem& first_estimate,
+                    WindowNormalEquations* equations, std::vector<double>* energies) override {
+    const double cost = evaluatePass(current, nullptr, energies, ResidualSource::kKeep);
+    if (equations) evaluatePass(first_estimate, equations, nullptr, ResidualSource::kKept);
+    return cost;
   }
 
  private:

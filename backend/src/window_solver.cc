@@ -25,7 +25,8 @@ std::string format(const char* pattern, Args... args) {
 }  // namespace
 
 WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolverOptions& options,
-                                WindowSolverWorkspace* workspace) {
+                                WindowSolverWorkspace* workspace,
+                                const WindowProblem* first_estimate) {
   const Stopwatch clock;
   WindowSolverSummary summary;
   WindowState state(problem);
@@ -40,7 +41,7 @@ WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolver
   state.save(&start);
   auto evaluate = [&](WindowNormalEquations* at, WindowCost* cost, std::vector<double>* e) {
     const Stopwatch watch;
-    const bool ok = evaluateWindow(problem, at, cost, e);
+    const bool ok = evaluateWindow(problem, at, cost, e, first_estimate);
     summary.evaluation_ms += watch.elapsedMs();
     return ok;
   };

@@ -42,6 +42,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"window.jacobi_scaling", &o.window.jacobi_scaling},
       {"window.reuse_evaluations", &o.window.reuse_evaluations},
       {"window.keep_scale_anchor", &o.window.keep_scale_anchor},
+      {"window.first_estimate_jacobians", &o.window.first_estimate_jacobians},
       {"window.native_solver", &o.window.native_solver},
       {"window.outlier_energy_per_pixel", &o.window.outlier_energy_per_pixel},
       {"window.outlier_threshold.adaptive", &o.window.outlier_threshold.adaptive},

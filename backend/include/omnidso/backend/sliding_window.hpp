@@ -114,6 +114,16 @@ struct WindowOptions {
   // scale to the prior once an anchor has been marginalised (the behaviour before; an
   // ablation; an anchor dropped as an outlier is replaced either way).
   bool keep_scale_anchor = true;
+  // The native solver takes every photometric residual's Jacobian with respect to a frame at
+  // that frame's first estimate once a prior holds it (and the intrinsics' likewise), as DSO
+  // does, so that the residuals and the priors share one linearisation point and one null
+  // space; the residuals' values stay at the current estimate. With Jacobians at the current
+  // estimate, the priors' null space (at x̄) and the residuals' (at x) part once the
+  // translations move, and the priors push along the scale: D3's full image drifted by +6 %
+  // in three seeds of five (docs/performance.md, "First-estimate Jacobians in the window").
+  // Setting `window.first_estimate_jacobians`; the Ceres path (native_solver = false)
+  // linearises at x either way.
+  bool first_estimate_jacobians = true;
   // The native window solver (window_solver.hpp) instead of ceres::Solve: the same problem,
   // the same Levenberg–Marquardt semantics, faster (docs/performance.md, "The native window
   // solver"). Level 0 with hand-derived residuals and without jacobi_scaling only; other
@@ -310,6 +320,9 @@ class SlidingWindow {
   // Marginalises the points into a prior natively (window_point_marginalization.hpp) where
   // that path applies — every residual of theirs deferred, no other block on them — and
   // removes their blocks from the problem. False where it does not apply (nothing changed).
+  // The native problem with the frames' and intrinsics' blocks that a prior holds at their
+  // first estimates (its points those of `problem`); nullopt when no prior holds any.
+  std::optional<WindowProblem> firstEstimateProblem(const WindowProblem& problem);
   bool marginalizePointsNatively(const std::vector<int>& ids);
   // Drops a point and its residuals without marginalising it (points that carry information
   // are marginalised with their keyframe in marginalizeKeyframe).
@@ -353,6 +366,7 @@ class SlidingWindow {
   std::shared_ptr<WindowPhotometricTerms> window_terms_;
   std::uint64_t num_native_problems_ = 0;
   std::unique_ptr<WindowSolverWorkspace> solver_workspace_;  // likewise (window_solver.hpp)
+  std::vector<Eigen::VectorXd> first_estimate_values_;  // x̄ of firstEstimateProblem's blocks
 };
 
 }  // namespace omnidso

@@ -24,9 +24,13 @@ struct WindowCost {
 
 // The cost at the values in the problem's blocks; with `equations` (reset to the problem's
 // sizes here) also the normal equations; with `energies` the photometric residuals' raw
-// energies (WindowPhotometricTerms::evaluate). False when a prior's cost function fails, as a
-// failed evaluation in Ceres.
+// energies (WindowPhotometricTerms::evaluate). With `first_estimate` (the same problem, its
+// frames' and intrinsics' blocks at their first estimates, its points those of `problem`)
+// the photometric terms' Jacobians are taken there (WindowPhotometricTerms::evaluateAt); the
+// cost and the priors stay at `problem`'s values. False when a prior's cost function fails,
+// as a failed evaluation in Ceres.
 bool evaluateWindow(const WindowProblem& problem, WindowNormalEquations* equations,
-                    WindowCost* cost, std::vector<double>* energies = nullptr);
+                    WindowCost* cost, std::vector<double>* energies = nullptr,
+                    const WindowProblem* first_estimate = nullptr);
 
 }  // namespace omnidso

@@ -57,6 +57,12 @@ class WindowPhotometricTerms {
   // Jacobian is zero); one invalid at `current` has OutOfBoundsPenalty's residual there.
   virtual void linearizeAt(const WindowProblem& current, const WindowProblem& first_estimate,
                            WindowNormalEquations* equations) = 0;
+  // evaluate() at `current` — the cost and `energies` — with the normal equations of
+  // linearizeAt(current, first_estimate): the window's solve with first-estimate Jacobians
+  // (WindowOptions::first_estimate_jacobians).
+  virtual double evaluateAt(const WindowProblem& current, const WindowProblem& first_estimate,
+                            WindowNormalEquations* equations,
+                            std::vector<double>* energies = nullptr) = 0;
 };
 
 // One instantiation per camera model with a residual kernel (photometric_factory.hpp).

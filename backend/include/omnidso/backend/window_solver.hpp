@@ -78,7 +78,10 @@ struct WindowSolverWorkspace {
 };
 
 // Solves in place: the result is in the problem's parameter blocks. `workspace` may be null.
+// With `first_estimate` (evaluateWindow) every step's photometric Jacobians are taken at the
+// frames' first estimates.
 WindowSolverSummary solveWindow(const WindowProblem& problem, const WindowSolverOptions& options,
-                                WindowSolverWorkspace* workspace = nullptr);
+                                WindowSolverWorkspace* workspace = nullptr,
+                                const WindowProblem* first_estimate = nullptr);
 
 }  // namespace omnidso
