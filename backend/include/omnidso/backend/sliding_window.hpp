@@ -317,12 +317,12 @@ class SlidingWindow {
   // The native view (window_problem.hpp) of the keyframes and of `points` — their residuals,
   // no priors.
   WindowProblem nativePhotometricProblem(const std::vector<const WindowPoint*>& points);
-  // Marginalises the points into a prior natively (window_point_marginalization.hpp) where
-  // that path applies — every residual of theirs deferred, no other block on them — and
-  // removes their blocks from the problem. False where it does not apply (nothing changed).
   // The native problem with the frames' and intrinsics' blocks that a prior holds at their
   // first estimates (its points those of `problem`); nullopt when no prior holds any.
   std::optional<WindowProblem> firstEstimateProblem(const WindowProblem& problem);
+  // Marginalises the points into a prior natively (window_point_marginalization.hpp) where
+  // that path applies — every residual of theirs deferred, no other block on them — and
+  // removes their blocks from the problem. False where it does not apply (nothing changed).
   bool marginalizePointsNatively(const std::vector<int>& ids);
   // Drops a point and its residuals without marginalising it (points that carry information
   // are marginalised with their keyframe in marginalizeKeyframe).
