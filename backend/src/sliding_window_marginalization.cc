@@ -66,24 +66,10 @@ bool SlidingWindow::marginalizePointsNatively(const std::vector<int>& ids) {
     points.push_back(&point);
   }
   const WindowProblem current = nativePhotometricProblem(points);
-  // The same problem with the frames' and intrinsics' values at their first estimate x̄
-  // (constant blocks are known: at x, as Marginalizer evaluates them).
-  WindowProblem first_estimate = current;
-  std::vector<Eigen::VectorXd> x_bar;
-  x_bar.reserve(2 * current.frames.size() + 1);  // no reallocation: the pointers stay valid
-  auto atFirstEstimate = [&](double* block, bool constant) {
-    if (constant) return block;
-    x_bar.push_back(marginalizer_.firstEstimate(*problem_, block));
-    return x_bar.back().data();
-  };
-  for (WindowFrame& frame : first_estimate.frames) {
-    frame.pose = atFirstEstimate(frame.pose, frame.pose_constant);
-    frame.affine = atFirstEstimate(frame.affine, frame.affine_constant);
-  }
-  first_estimate.intrinsics =
-      atFirstEstimate(first_estimate.intrinsics, first_estimate.intrinsics_constant);
-
-  const PointSchurComplement schur = marginalizePoints(current, first_estimate);
+  // The same problem with the frames' and intrinsics' values at their first estimate x̄.
+  const std::optional<WindowProblem> first_estimate = firstEstimateProblem(current);
+  const PointSchurComplement schur =
+      marginalizePoints(current, first_estimate ? *first_estimate : current);
   if (marginalizer_.addPrior(*problem_, schur.blocks, schur.information, schur.gradient))
     has_prior_ = true;
   for (const WindowPoint* point : points) {

@@ -98,17 +98,19 @@ std::optional<WindowProblem> SlidingWindow::firstEstimateProblem(const WindowPro
   WindowProblem first_estimate = problem;
   first_estimate_values_.clear();
   first_estimate_values_.reserve(2 * problem.frames.size() + 1);  // the pointers stay valid
-  auto atFirstEstimate = [&](double* block) {
-    const Eigen::VectorXd* x_bar = marginalizer_.linearizationPoint(block);
+  // Constant blocks are known: at x, as Marginalizer evaluates them.
+  auto atFirstEstimate = [&](double* block, bool constant) {
+    const Eigen::VectorXd* x_bar = constant ? nullptr : marginalizer_.linearizationPoint(block);
     if (!x_bar) return block;
     first_estimate_values_.push_back(*x_bar);
     return first_estimate_values_.back().data();
   };
   for (WindowFrame& frame : first_estimate.frames) {
-    frame.pose = atFirstEstimate(frame.pose);
-    frame.affine = atFirstEstimate(frame.affine);
+    frame.pose = atFirstEstimate(frame.pose, frame.pose_constant);
+    frame.affine = atFirstEstimate(frame.affine, frame.affine_constant);
   }
-  first_estimate.intrinsics = atFirstEstimate(first_estimate.intrinsics);
+  first_estimate.intrinsics =
+      atFirstEstimate(first_estimate.intrinsics, first_estimate.intrinsics_constant);
   if (first_estimate_values_.empty()) return std::nullopt;  // no prior yet: x̄ = x
   return first_estimate;
 }

@@ -317,8 +317,9 @@ class SlidingWindow {
   // The native view (window_problem.hpp) of the keyframes and of `points` — their residuals,
   // no priors.
   WindowProblem nativePhotometricProblem(const std::vector<const WindowPoint*>& points);
-  // The native problem with the frames' and intrinsics' blocks that a prior holds at their
-  // first estimates (its points those of `problem`); nullopt when no prior holds any.
+  // The native problem with the variable frames' and intrinsics' blocks that a prior holds at
+  // their first estimates (its points those of `problem`); nullopt when no prior holds any
+  // (x̄ = x). For the window's solve and the points' marginalisation.
   std::optional<WindowProblem> firstEstimateProblem(const WindowProblem& problem);
   // Marginalises the points into a prior natively (window_point_marginalization.hpp) where
   // that path applies — every residual of theirs deferred, no other block on them — and
