@@ -77,6 +77,7 @@ struct Odometry::Impl {
   double first_rmse = std::numeric_limits<double>::infinity();  // since the newest keyframe
   SE3d T_world_last, T_world_prev;
   Eigen::Vector2d last_affine = Eigen::Vector2d::Zero();
+  double last_exposure = 1.0;  // of the last tracked frame
   // Real-time mode, tracking side only: the affine the tracker gave each keyframe it sent to
   // mapping, until that keyframe becomes the reference (adoptPublishedReference).
   std::map<int, Eigen::Vector2d> tracked_keyframe_affine;

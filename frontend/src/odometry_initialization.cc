@@ -65,6 +65,7 @@ void Odometry::Impl::initialize(FrameRecord& record, std::shared_ptr<const Image
   record.reference_keyframe = record.index;
   last_affine = Eigen::Vector2d(window->keyframe(record.index).affine[0],
                                 window->keyframe(record.index).affine[1]);
+  last_exposure = exposure;
   T_world_last = window->keyframe(record.index).T_world_cam();
   // The velocity model's previous frame: one frame's motion back (InitializationResult), not
   // the first frame, which can lie tens of frames back.

@@ -8,6 +8,7 @@
 // (adoptPublishedReference).
 #include <cmath>
 #include <omnidso/core/timing.hpp>
+#include <omnidso/frontend/affine_gauge.hpp>
 
 #include "odometry_impl.hpp"
 
@@ -45,6 +46,7 @@ void Odometry::Impl::trackFrame(FrameRecord& record, std::shared_ptr<const Image
   T_world_prev = T_world_last;
   T_world_last = T_world_frame;
   last_affine = tracking.affine;
+  last_exposure = exposure;
   ++frames_since_keyframe;
   const bool forced = options.max_keyframe_interval_frames > 0 &&
                       frames_since_keyframe >= options.max_keyframe_interval_frames;
@@ -91,13 +93,16 @@ void Odometry::Impl::adoptPublishedReference() {
   reference = published;
   first_rmse = std::numeric_limits<double>::infinity();
   // The deterministic mode continues from the window's affine of each new keyframe (trackFrame).
-  // The real-time mode's frames have moved on by then, so they take the window's correction of
-  // the keyframe's affine instead: without exposure times the window's brightness is free and
-  // drifts, and a frame held (by the tracker's affine prior) to a brightness in the old gauge
-  // against a reference in the new one was misaligned until keyframes came every other frame
-  // and tracking was lost (docs/performance.md, "The real-time mode without exposure times").
+  // The real-time mode's frames have moved on by then, so the last frame's affine is carried
+  // into the keyframe's new gauge instead, keeping its transfer from the keyframe
+  // (affine_gauge.hpp): without exposure times the window's brightness is free and drifts, and
+  // a frame held (by the tracker's affine prior) to a brightness in the old gauge against a
+  // reference in the new one was misaligned until keyframes came every other frame and
+  // tracking was lost (docs/performance.md, "The real-time mode without exposure times").
   const auto tracked = tracked_keyframe_affine.find(reference.id);
-  if (tracked != tracked_keyframe_affine.end()) last_affine += reference.affine - tracked->second;
+  if (tracked != tracked_keyframe_affine.end())
+    last_affine = affineInMovedKeyframeGauge(last_affine, last_exposure, tracked->second,
+                                             reference.affine, reference.exposure);
   tracked_keyframe_affine.erase(tracked_keyframe_affine.begin(),
                                 tracked_keyframe_affine.upper_bound(reference.id));
 }
