@@ -1,6 +1,7 @@
-// DSO's photometric modes chosen by the data (cli::applyPhotometricMode): with every frame's
-// exposure time the window ties each keyframe's affine brightness to 0; without them the ties
-// go (auto-exposure is what the affine model must explain), and the user's settings still win.
+// The photometric model chosen by the data (cli::applyPhotometricMode): with every frame's
+// exposure time the window ties each keyframe's affine brightness to 0; without them the gain
+// goes free (auto-exposure is what the affine model must explain) and the offset stays tied,
+// and the user's settings still win.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -41,16 +42,22 @@ TEST(PhotometricMode, ExposureTimesKeepTheWindowsTies) {
   EXPECT_GT(options.window.affine_prior_weight_a, 0.0);
 }
 
-TEST(PhotometricMode, WithoutExposureTimesTheWindowsBrightnessIsFree) {
+TEST(PhotometricMode, WithoutExposureTimesTheGainIsFreeAndTheOffsetTied) {
   OdometryOptions options;
   const OdometryOptions defaults;
+  ASSERT_GT(defaults.window.affine_prior_weight_b, 0.0);
+  ASSERT_GT(defaults.tracker.affine_prior_weight_b, 0.0);
+  ASSERT_FALSE(defaults.tracker.affine_in_reference_gauge);
   const std::string note = applyPhotometricMode(indexWithExposures({0, 0, 0}), &options);
   EXPECT_NE(note.find("no exposure times"), std::string::npos) << note;
+  // The gain free in the window and in the tracker …
   EXPECT_EQ(options.window.affine_prior_weight_a, 0.0);
-  EXPECT_EQ(options.window.affine_prior_weight_b, 0.0);
-  // The tracker's and the initialiser's ties (to the previous frame, to the segment's first)
-  // stay.
-  EXPECT_EQ(options.tracker.affine_prior_weight_a, defaults.tracker.affine_prior_weight_a);
+  EXPECT_EQ(options.tracker.affine_prior_weight_a, 0.0);
+  // … the offset tied to 0 in both, the tracker's about black.
+  EXPECT_EQ(options.window.affine_prior_weight_b, defaults.window.affine_prior_weight_b);
+  EXPECT_EQ(options.tracker.affine_prior_weight_b, defaults.tracker.affine_prior_weight_b);
+  EXPECT_TRUE(options.tracker.affine_in_reference_gauge);
+  // The initialiser's tie (to the segment's first frame) stays.
   EXPECT_EQ(options.initializer.affine_prior_weight_a, defaults.initializer.affine_prior_weight_a);
 }
 
@@ -113,13 +120,17 @@ TEST(PhotometricMode, RunRecordsTheModeAndTheUsersSettingWins) {
   };
   const auto [free, free_log] = run("free", {});
   EXPECT_EQ(free.at("window.affine_prior_weight_a").get<double>(), 0.0);
-  EXPECT_EQ(free.at("window.affine_prior_weight_b").get<double>(), 0.0);
+  EXPECT_EQ(free.at("window.affine_prior_weight_b").get<double>(), 1e6);
+  EXPECT_EQ(free.at("tracker.affine_prior_weight_a").get<double>(), 0.0);
+  EXPECT_TRUE(free.at("tracker.affine_in_reference_gauge").get<bool>());
   EXPECT_NE(free_log.find("no exposure times"), std::string::npos) << free_log;
   const auto [tied, tied_log] =
       run("tied", {"--set", "window.affine_prior_weight_a=1e8", "--set",
-                   "window.affine_prior_weight_b=1e6"});
+                   "tracker.affine_prior_weight_a=1e8", "--set",
+                   "tracker.affine_in_reference_gauge=false"});
   EXPECT_EQ(tied.at("window.affine_prior_weight_a").get<double>(), 1e8);
-  EXPECT_EQ(tied.at("window.affine_prior_weight_b").get<double>(), 1e6);
+  EXPECT_EQ(tied.at("tracker.affine_prior_weight_a").get<double>(), 1e8);
+  EXPECT_FALSE(tied.at("tracker.affine_in_reference_gauge").get<bool>());
   EXPECT_EQ(tied_log.find("no exposure times"), std::string::npos) << tied_log;
 }
 

@@ -67,10 +67,12 @@ bool exposureTimesKnown(const DatasetIndex& index) {
 std::string applyPhotometricMode(const DatasetIndex& index, OdometryOptions* options) {
   if (exposureTimesKnown(index)) return "";
   options->window.affine_prior_weight_a = 0.0;
-  options->window.affine_prior_weight_b = 0.0;
-  return "no exposure times: each keyframe's affine brightness is left free (DSO's "
-         "uncalibrated mode; --set window.affine_prior_weight_a=1e8 "
-         "--set window.affine_prior_weight_b=1e6 ties it to 0 as with exposure times)";
+  options->tracker.affine_prior_weight_a = 0.0;
+  options->tracker.affine_in_reference_gauge = true;
+  return "no exposure times: each frame's gain is left free and its offset tied to 0, in the "
+         "window and in the tracker (--set window.affine_prior_weight_a=1e8 --set "
+         "tracker.affine_prior_weight_a=1e8 --set tracker.affine_in_reference_gauge=false ties "
+         "the gain as with exposure times)";
 }
 
 std::string applyCropPatternSpread(const DatasetIndex& index, const DatasetRunOptions& run,

@@ -114,7 +114,7 @@ void runOdometry(const RunArguments& args) {
   const DatasetRun run = runOdometryOnDataset(index, options);
   // After the run, so that a bad input still gets its one line of error and nothing else.
   if (!photometric_note.empty() && o.window.affine_prior_weight_a == 0.0 &&
-      o.window.affine_prior_weight_b == 0.0)
+      o.tracker.affine_prior_weight_a == 0.0)
     std::cerr << "note: " << photometric_note << "\n";
   if (!pattern_note.empty() && o.pattern_spread == crop_pattern_spread)
     std::cerr << "note: " << pattern_note << "\n";

@@ -28,11 +28,11 @@
 // A frame's b_j then held at b_ref makes a gain change s a brightness change about b_ref
 // instead of about black: a uniform error (1 − s) b_ref. `affine_in_reference_gauge` solves
 // instead for b' = b_j − s b_ref (the reference's b taken as 0) and converts back, so that the
-// prior ties the transfer and the result does not depend on the window's gauge. It is a
-// setting, off: on H7 without calibration it helped (median of five seeds 3.9 → 0.5 %), on
-// the development set's uncalibrated D2 crop it hurt (0.06 → 0.13 %, seven seeds), and
-// calibrated data only moved within its seed spread (docs/performance.md, "The tracker's
-// affine gauge").
+// prior ties the transfer's offset — about black, where a change of exposure or gain leaves it
+// — and the result does not depend on the window's gauge. Off by default (with exposure times
+// the window ties b to 0 and the two are the same); `omnidso run` turns it on for data without
+// exposure times, with the gain's prior dropped (cli::applyPhotometricMode; docs/performance.md,
+// "The tracker's affine gauge" and "Without exposure times: the gain free, the offset tied").
 
 #include <Eigen/Core>
 #include <limits>
@@ -70,10 +70,9 @@ struct CoarseTrackerOptions {
   // towards the guess. With calibrated exposure times and response (DSO's photometric mode)
   // the brightness model needs no correction, so DSO ties them almost rigidly: a free (a, b)
   // otherwise absorbs the contrast loss of bilinear interpolation at high-gradient pixels (a
-  // few percent, a < 0). Weights in energy per unit². The guess is the previous frame's, so
-  // without exposure times the tie is one of smoothness between consecutive frames and stays
-  // (freeing it too lost D2's tracking in one of three seeds: docs/performance.md, "Without
-  // exposure times"); it is the window's tie to 0 that such data drops
+  // few percent, a < 0). Weights in energy per unit². The guess is the previous frame's.
+  // Without exposure times the gain is what changes, and `omnidso run` drops the prior on a
+  // (as DSO's tracker has none) and keeps the one on the offset, about black
   // (cli::applyPhotometricMode).
   double affine_prior_weight_a = 1e8;
   double affine_prior_weight_b = 1e6;

@@ -63,15 +63,21 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
 // the ASL layout records none).
 bool exposureTimesKnown(const DatasetIndex& index);
 
-// DSO's two photometric modes, chosen by the data. With exposure times the brightness from
-// keyframe to keyframe is t_j/t_i, so the window ties every keyframe's affine [a, b] to 0
-// (WindowOptions::affine_prior_weight_*; DSO's calibrated mode). Without them it is the
-// camera's auto-exposure, which only the affine model can explain: a tie to 0 asserts that
-// every keyframe had the same exposure (a 2.5× change over the development set's MAV path),
-// so the window's ties are dropped (DSO's uncalibrated mode). The tracker's and initialiser's
-// priors stay: they tie a frame to the previous frame's brightness or the segment's first,
-// not to 0. Call it before the user's settings so that they can override it. Returns a note
-// for the user when it changed the options, else "".
+// The photometric model, chosen by the data. With exposure times the brightness from keyframe
+// to keyframe is t_j/t_i, so the window ties every keyframe's affine [a, b] to 0
+// (WindowOptions::affine_prior_weight_*; DSO's calibrated mode). Without them the camera's
+// auto-exposure changes each frame's gain, which only the affine model can explain: a tie of a
+// to 0 asserts that every keyframe had the same exposure (a 2.5× change over the development
+// set's MAV path). A change of exposure or gain scales the values about black — linear ones,
+// and gamma-encoded ones too, (k E)^γ = k^γ E^γ — and leaves the offset (the black level)
+// alone. So the gain goes free and the offset stays tied to 0: the window drops its tie on a,
+// the tracker its prior on a (DSO's tracker has none) and ties its offset about black, not
+// about the reference's offset (CoarseTrackerOptions::affine_in_reference_gauge). DSO's
+// uncalibrated mode frees b as well; a free window b drifted to 60–120 on the uncalibrated
+// forward path H7 and failed it (docs/performance.md, "Without exposure times: the gain free,
+// the offset tied"). The initialiser's prior stays (it ties a frame to the segment's first).
+// Call it before the user's settings so that they can override it. Returns a note for the
+// user when it changed the options, else "".
 std::string applyPhotometricMode(const DatasetIndex& index, OdometryOptions* options);
 
 // For `pinhole-crop:FOV`, the residual pattern on the source's pixels: pattern_spread = the
