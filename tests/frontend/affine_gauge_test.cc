@@ -20,8 +20,8 @@ Transfer transfer(const Eigen::Vector2d& frame, double frame_exposure,
 }
 
 TEST(AffineGauge, TheTransferFromTheKeyframeSurvivesTheMove) {
-  // Gauges like those the uncalibrated forward path H7 reaches (a to −1.9, b to 120), frames
-  // brighter and darker than their keyframe, with and without exposure times.
+  // Gauges like those the uncalibrated H7 reaches without a tie on b (a to −1.9, b to 120),
+  // frames brighter and darker than their keyframe, with and without exposure times.
   struct Case {
     Eigen::Vector2d frame, before, after;
     double t_frame, t_keyframe;

@@ -74,7 +74,7 @@ bool exposureTimesKnown(const DatasetIndex& index);
 // the tracker its prior on a (DSO's tracker has none) and ties its offset about black, not
 // about the reference's offset (CoarseTrackerOptions::affine_in_reference_gauge). DSO's
 // uncalibrated mode frees b as well; a free window b drifted to 60–120 on the uncalibrated
-// forward path H7 and failed it (docs/performance.md, "Without exposure times: the gain free,
+// held-out path H7 and failed it (docs/performance.md, "Without exposure times: the gain free,
 // the offset tied"). The initialiser's prior stays (it ties a frame to the segment's first).
 // Call it before the user's settings so that they can override it. Returns a note for the
 // user when it changed the options, else "".
