@@ -4,6 +4,7 @@
 #include <map>
 #include <omnidso/backend/affine_prior.hpp>
 #include <omnidso/cameras/pyramid_scaling.hpp>
+#include <omnidso/frontend/affine_gauge.hpp>
 #include <omnidso/frontend/coarse_tracker.hpp>
 #include <omnidso/frontend/model_dispatch.hpp>
 #include <omnidso/frontend/tracker_solver.hpp>
@@ -33,12 +34,12 @@ struct CoarseTracker::Impl {
   // same in both, a unchanged. Without it the tracker works in the window's gauge.
   Eigen::Vector2d toReferenceGauge(const Eigen::Vector2d& ab, double frame_exposure) const {
     if (!options.affine_in_reference_gauge) return ab;
-    const double s = frame_exposure / exposure * std::exp(ab.x() - affine.x());
+    const double s = brightnessGain(frame_exposure, ab.x(), exposure, affine.x());
     return {ab.x(), ab.y() - s * affine.y()};
   }
   Eigen::Vector2d fromReferenceGauge(const Eigen::Vector2d& ab, double frame_exposure) const {
     if (!options.affine_in_reference_gauge) return ab;
-    const double s = frame_exposure / exposure * std::exp(ab.x() - affine.x());
+    const double s = brightnessGain(frame_exposure, ab.x(), exposure, affine.x());
     return {ab.x(), ab.y() + s * affine.y()};
   }
 

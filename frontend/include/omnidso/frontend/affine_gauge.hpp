@@ -1,5 +1,6 @@
 #pragma once
-// A frame's affine brightness carried into a keyframe's moved gauge.
+// A frame's brightness gain over a reference, and its affine brightness carried into a
+// keyframe's moved gauge.
 //
 // The brightness model (paper eq. 5): frame k sees I_k = t_k e^{a_k} L + b_k, with L the
 // scene's radiance in the window's gauge. Without exposure times the window's [a, b] are free,
@@ -19,13 +20,19 @@
 
 namespace omnidso {
 
+// The gain s = t_f e^{a_f} / (t_r e^{a_r}) of a frame's brightness over a reference's (eq. 5).
+inline double brightnessGain(double frame_exposure, double frame_a, double reference_exposure,
+                             double reference_a) {
+  return frame_exposure / reference_exposure * std::exp(frame_a - reference_a);
+}
+
 inline Eigen::Vector2d affineInMovedKeyframeGauge(const Eigen::Vector2d& frame_affine,
                                                   double frame_exposure,
                                                   const Eigen::Vector2d& keyframe_before,
                                                   const Eigen::Vector2d& keyframe_after,
                                                   double keyframe_exposure) {
-  const double s =
-      frame_exposure / keyframe_exposure * std::exp(frame_affine.x() - keyframe_before.x());
+  const double s = brightnessGain(frame_exposure, frame_affine.x(), keyframe_exposure,
+                                  keyframe_before.x());
   return {frame_affine.x() + (keyframe_after.x() - keyframe_before.x()),
           frame_affine.y() + s * (keyframe_after.y() - keyframe_before.y())};
 }
