@@ -191,6 +191,26 @@ struct CoarseTracker::Impl {
     }
   }
 
+  // RMS distance (level-0 px) between where the two poses put the level-0 points.
+  template <template <typename> class M>
+  double rmsShiftBetween(const M<double>& model, const SE3d& T_a, const SE3d& T_b) const {
+    double sum = 0.0;
+    int n = 0;
+    const Eigen::Matrix3d R_a = T_a.rotationMatrix(), R_b = T_b.rotationMatrix();
+    for (size_t i = 0; i < pixels[0].size(); ++i) {
+      Eigen::Vector3d b;
+      if (!model.unproject(pixels[0][i], b)) continue;
+      const double d = inverse_distances[0][i];
+      Eigen::Vector2d u_a, u_b;
+      if (!model.project(R_a * b + d * T_a.translation(), u_a) ||
+          !model.project(R_b * b + d * T_b.translation(), u_b))
+        continue;
+      sum += (u_a - u_b).squaredNorm();
+      ++n;
+    }
+    return n ? std::sqrt(sum / n) : 0.0;
+  }
+
   // RMS pixel shifts of the level-0 points under translation only and under the full motion.
   template <template <typename> class M>
   void flow(ModelTag<M>, const M<double>& model, const SE3d& T, TrackingResult* result) const {
@@ -287,6 +307,7 @@ TrackingResult CoarseTracker::track(const ImagePyramid& frame, double exposure,
   std::vector<double> best_coarse_rmse(levels, std::numeric_limits<double>::infinity());
   double best_final = std::numeric_limits<double>::infinity();
   const Eigen::Vector2d start = impl_->toReferenceGauge(affine_guess, exposure);
+  const SE3d* winning_hypothesis = nullptr;
   withResidualModel<void>(impl_->camera, [&](auto tag, const auto& model) {
     for (const SE3d& hypothesis : hypotheses) {
       ++best.hypotheses_tried;
@@ -317,10 +338,37 @@ TrackingResult CoarseTracker::track(const ImagePyramid& frame, double exposure,
         best.level_rmse = level_rmse;
         best.rmse = finest.rmse;
         best.valid_fraction = finest.valid_fraction;
+        winning_hypothesis = &hypothesis;
       }
       if (best.ok && std::isfinite(previous_rmse) &&
           best.rmse < impl_->options.good_enough_factor * previous_rmse)
         break;
+    }
+    // The header's second start: the finest level alone, from the winning hypothesis, when
+    // coarse to fine lowered the finest-level error by less than `second_start_gain` of the
+    // hypothesis' own.
+    if (best.ok && impl_->options.finest_level_second_start && levels > 1) {
+      std::array<double, 7> pose;
+      winning_hypothesis->toParameters(pose.data());
+      std::array<double, 2> affine = {start.x(), start.y()};
+      const TrackingLevelSolve at_hypothesis =
+          impl_->solveLevel(tag, model, 0, frame, exposure, pose.data(), affine.data(), false);
+      if (best.rmse >= (1.0 - impl_->options.second_start_gain) * at_hypothesis.rmse) {
+        const TrackingLevelSolve r =
+            impl_->solveLevel(tag, model, 0, frame, exposure, pose.data(), affine.data(), true);
+        const SE3d second = SE3d::fromParameters(pose.data());
+        if (std::isfinite(r.rmse) && r.valid_fraction >= impl_->options.min_valid_fraction &&
+            r.rmse < best.rmse &&
+            impl_->rmsShiftBetween(model, best.T_frame_ref, second) >
+                impl_->options.second_start_min_shift_px) {
+          best.T_frame_ref = second;
+          best.affine =
+              impl_->fromReferenceGauge(Eigen::Vector2d(affine[0], affine[1]), exposure);
+          best.level_rmse[0] = r.rmse;
+          best.rmse = r.rmse;
+          best.valid_fraction = r.valid_fraction;
+        }
+      }
     }
     if (best.ok) impl_->flow(tag, model, best.T_frame_ref, &best);
   });

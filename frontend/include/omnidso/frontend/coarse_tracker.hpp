@@ -15,6 +15,7 @@
 // each is tried coarse to fine, and dropped after the coarsest level when its error exceeds
 // `early_reject_factor` × the best coarsest-level error so far. Trying stops as soon as a
 // hypothesis ends below `good_enough_factor` × the previous frame's error.
+// The winner may be solved once more at the finest level alone (the second start below).
 // Success: enough points stay valid and the final error is finite.
 // Flow statistics for the keyframe decision (DSO): RMS pixel shift of the points under the
 // translation alone (flow_t) and under the full motion (flow_rt), at level 0.
@@ -62,6 +63,28 @@ struct CoarseTrackerOptions {
   double good_enough_factor = 1.5;  // DSO's re-track threshold
   double min_valid_fraction = 0.3;
   double rotation_hypothesis_rad = 0.04;
+  // The second start at the finest level. When coarse to fine lowered the finest-level error
+  // by less than `second_start_gain` (10 %) of the error at the winning hypothesis itself, the
+  // hypothesis already lay near a finest-level minimum, and the finest level alone is solved
+  // once more from it. Where the two results are different minima — more than
+  // `second_start_min_shift_px` apart (RMS over the level-0 points) — the lower finest-level
+  // error wins; closer, they are one minimum reached by two paths and coarse to fine is kept.
+  // Why: the coarse levels widen the basin but see motion along the optical axis poorly (its
+  // radial flow is a fraction of a coarse pixel over most of the image), so a coarse level can
+  // walk along the axis on a flat cost and hand the finer levels a start outside the true
+  // minimum's basin, where they stop in another. Found on the uncalibrated forward path H7 at
+  // its dimmest frames: from the constant-velocity guess the coarse levels doubled the step
+  // along the axis (finest error 4.90) where the finest level alone stayed with the guess
+  // (4.71), and the keyframe made there broke the scale (docs/performance.md, "The tracker's
+  // coarse levels along the optical axis"). The gate keeps the cost off frames whose guess
+  // was far: hand-held, coarse to fine lowers the error by half or more and the second start
+  // runs on under 1 % of the frames; on H7 on 75 %. Every second start adopted on H7 followed
+  // a gain under 4 %. 1 px: the finest level's basin is about a pixel wide (bilinear samples,
+  // one-pixel gradients). Settings `tracker.finest_level_second_start`,
+  // `tracker.second_start_gain`, `tracker.second_start_min_shift_px`.
+  bool finest_level_second_start = true;
+  double second_start_gain = 0.1;
+  double second_start_min_shift_px = 1.0;
   int num_threads = 1;
   // Solve for the frame's offset in the reference's gauge (above). Setting
   // `tracker.affine_in_reference_gauge`.
