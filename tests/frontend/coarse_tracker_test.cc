@@ -202,7 +202,6 @@ TEST(CoarseTrackerContent, TargetsOutsideTheImageCircleDoNotHoldBackATurn) {
   EXPECT_GT(valid_without, 0.99);
 }
 
-
 // The second start at the finest level (CoarseTrackerOptions::finest_level_second_start). A
 // pinhole camera moves 0.1 along its optical axis (the scene's mean inverse distance is
 // ≈ 0.26, so about 2.6 % of the distance to what it sees). The frame's coarse content is made
