@@ -41,6 +41,57 @@ double Initializer::Impl::radiansPerPixel() const {
 }
 
 
+double Initializer::Impl::solveAllLevels(int levels, const ImagePyramid& frame, double exposure,
+                                         bool snapped, std::vector<bool>* valid) {
+  double rmse = std::numeric_limits<double>::infinity();
+  for (int level = levels - 1; level >= 0; --level)
+    rmse = solveLevel(level, frame, exposure, snapped, valid).rmse;
+  return rmse;
+}
+
+
+// The pre-snap pose reads a narrow view's sideways shift as a turn (the translation is
+// penalised before the snap): in the test of this (initializer_test.cc) it was turned 5°
+// about x and its translation tilted 23° toward y, and the snap's solve from there stopped
+// halfway. The pure translations are the other end of that ambiguity.
+double Initializer::Impl::solveAtSnap(int levels, const ImagePyramid& frame, double exposure,
+                                      std::vector<bool>* valid) {
+  const auto pre_pose = pose;
+  const auto pre_affine = affine;
+  const std::vector<double> pre_distances = inverse_distances;
+  const double rmse = solveAllLevels(levels, frame, exposure, /*snapped=*/true, valid);
+  const double step = SE3d::fromParameters(pre_pose.data()).translation().norm();
+  // A default above the acceptance bound is a lost alignment: the parallax that triggered the
+  // snap is then an artefact, and a start fitted to it has no translation to find — with the
+  // rotation search off, a 10° swing was "initialised" so (WaitsWhenNoPointProjectsAnyMore).
+  if (!options.snap_translation_starts || !(step > 0) || !(rmse <= options.max_rmse)) return rmse;
+  struct Solution {
+    double rmse;
+    std::array<double, 7> pose;
+    std::array<double, 2> affine;
+    std::vector<double> inverse_distances;
+    std::vector<bool> valid;
+  };
+  Solution best{rmse, pose, affine, inverse_distances, *valid};
+  const double bar = options.snap_translation_start_gain * rmse;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double sign : {1.0, -1.0}) {
+      SE3d start;
+      start.translation()[axis] = sign * step;
+      start.toParameters(pose.data());
+      affine = pre_affine;
+      inverse_distances = pre_distances;
+      const double r = solveAllLevels(levels, frame, exposure, /*snapped=*/true, valid);
+      if (r < bar && r < best.rmse) best = {r, pose, affine, inverse_distances, *valid};
+    }
+  pose = best.pose;
+  affine = best.affine;
+  inverse_distances = std::move(best.inverse_distances);
+  *valid = std::move(best.valid);
+  return best.rmse;
+}
+
+
 // Over the valid points, the translation alone (T_world_frame = T_first_frame: the point in
 // the frame is T⁻¹ x): the RMS pixel shift |π(b + d t) − p| and the RMS angle ∠(b, b + d t)
 // by which it turns the point's ray (InitializerOptions::min_parallax_px, min_parallax_deg).
@@ -126,11 +177,6 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
   const double min_parallax =
       o.min_parallax_px > 0 ? o.min_parallax_px : 0.01 * (impl_->camera.width() + impl_->camera.height());
   std::vector<bool> valid;
-  double rmse = std::numeric_limits<double>::infinity();
-  auto solveAllLevels = [&](bool snapped) {
-    for (int level = levels - 1; level >= 0; --level)
-      rmse = impl_->solveLevel(level, frame, exposure, snapped, &valid).rmse;
-  };
   const bool snapped_before = impl_->snapped_at >= 0;
   {  // start: the rotation search around the constant-velocity prediction and the last pose
     const SE3d last = SE3d::fromParameters(impl_->pose.data());
@@ -142,14 +188,14 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
     if (frames_tried_before_this > 0) centres.push_back(last);  // else both are the identity
     impl_->searchRotationStart(levels - 1, frame, exposure, snapped_before, centres);
   }
-  solveAllLevels(snapped_before);
+  double rmse = impl_->solveAllLevels(levels, frame, exposure, snapped_before, &valid);
   Impl::Parallax parallax = impl_->parallax(valid);
   auto enough = [&] {
     return parallax.px >= min_parallax && parallax.deg >= o.min_parallax_deg;
   };
   if (!snapped_before && enough()) {
     impl_->snapped_at = impl_->frames_tried;
-    solveAllLevels(true);
+    rmse = impl_->solveAtSnap(levels, frame, exposure, &valid);
     parallax = impl_->parallax(valid);
   }
   const int num_valid = static_cast<int>(std::count(valid.begin(), valid.end(), true));

@@ -134,6 +134,16 @@ struct Initializer::Impl {
   // Angle between the bearings of the image centre and the pixel beside it.
   double radiansPerPixel() const;
 
+  // Every level of `frame`, coarse to fine, from the current state: the finest level's RMS
+  // residual, and `valid` its valid points.
+  double solveAllLevels(int levels, const ImagePyramid& frame, double exposure, bool snapped,
+                        std::vector<bool>* valid);
+
+  // The snap's solve (options.snap_translation_starts): from the pre-snap state and, where
+  // on, from the six pure translations; the state left at the solution kept.
+  double solveAtSnap(int levels, const ImagePyramid& frame, double exposure,
+                     std::vector<bool>* valid);
+
   struct Parallax {
     double px = 0.0;
     double deg = 0.0;

@@ -96,6 +96,8 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"initializer.rotation_search_step_px", &o.initializer.rotation_search_step_px},
       {"initializer.level_cell_px", &o.initializer.level_cell_px},
       {"initializer.frames_after_snap", &o.initializer.frames_after_snap},
+      {"initializer.snap_translation_starts", &o.initializer.snap_translation_starts},
+      {"initializer.snap_translation_start_gain", &o.initializer.snap_translation_start_gain},
       {"initializer.min_parallax_px", &o.initializer.min_parallax_px},
       {"initializer.min_parallax_deg", &o.initializer.min_parallax_deg},
       {"initializer.max_rmse", &o.initializer.max_rmse},

@@ -15,8 +15,9 @@
 // translation alone causes (parallax) exceeds `min_parallax_px` and the RMS angle it turns
 // the points' rays by (the triangulation angle, ∠(b, b + d t)) exceeds `min_parallax_deg`,
 // the initialiser "snaps" (as DSO's does): λ drops to `regularizer_weight` with d̄ the mean
-// inverse distance and the translation free, the frame is solved again, and
-// `frames_after_snap` more frames refine the distances on a growing baseline.
+// inverse distance and the translation free, the frame is solved again (from the pre-snap pose
+// and from six pure translations: snap_translation_starts), and `frames_after_snap` more
+// frames refine the distances on a growing baseline.
 // Start of each frame: the coarsest level begins at the lowest-cost node of a rotation grid
 // around the constant-velocity prediction and around the last pose (rotation_search_*): a
 // fast hand-held swing displaces the coarsest level beyond the alignment's basin.
@@ -60,6 +61,19 @@ struct InitializerOptions {
   // marginalisation; …"): a speed setting, not the default.
   double level_cell_px = 0.0;
   int frames_after_snap = 0;
+  // At the snap, besides the solve from the pre-snap pose, one from each pure translation
+  // t = ±|t_pre| e_k (k = x, y, z; identity rotation, the pre-snap distances and affine),
+  // the lowest error kept if below snap_translation_start_gain × the default's. Before the
+  // snap the translation is penalised, so a narrow view's shift across it is read as a turn;
+  // the pre-snap pose is then one end of the rotation–translation ambiguity, and the snap's
+  // solve can stay in its basin. On the 10 Hz holdout path H10 (a 480-pixel pinhole, f = 240,
+  // moving 0.26 m back per frame; docs/performance.md, "The snap's translation starts") the
+  // default kept a 4–8° pitch error at a photometric error of 6.5, the axial start reached
+  // 3.2. The gain keeps a start that is merely a little better from switching a solution
+  // that was right. Only where the default's error is within max_rmse: above it the
+  // alignment is lost, and the parallax that triggered the snap with it.
+  bool snap_translation_starts = true;
+  double snap_translation_start_gain = 0.8;
   double min_parallax_px = 0.0;        // 0: use 0.01 · (w + h)
   // The pixel criterion alone sets the distances' precision in pixels, the same for every
   // lens. A narrow view needs more: with the rotation taking the mean flow, its tracker reads
