@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/scale_drift.hpp>
 
@@ -19,12 +21,11 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
   return denominator > 0.0 ? (n * sxy - sx * sy) / denominator : 0.0;
 }
 
-}  // namespace
+constexpr double kMinDefaultWindowM = 0.5;
 
-double defaultScaleDriftWindow(double gt_length_m) { return std::max(0.5, 0.1 * gt_length_m); }
-
-std::optional<ScaleDrift> computeScaleDrift(const Trajectory& gt, const Trajectory& est,
-                                            const EvaluationResult& result, double window_m) {
+// The samples σ_k at window Δ, and how many pairs had a window ahead of them.
+ScaleDrift localScales(const Trajectory& gt, const Trajectory& est,
+                       const EvaluationResult& result, double window_m) {
   if (!(window_m > 0.0) || !std::isfinite(window_m))
     throw Error("scale drift: the window must be a positive length (got " +
                 std::to_string(window_m) + " m)");
@@ -42,6 +43,7 @@ std::optional<ScaleDrift> computeScaleDrift(const Trajectory& gt, const Trajecto
     j = std::max(j, k + 1);
     while (j < pairs.size() && along[j] - along[k] < window_m) ++j;
     if (j >= pairs.size()) break;
+    ++drift.pairs_with_window;
     const double chord_gt =
         (gt[pairs[j].first].pose.translation() - gt[pairs[k].first].pose.translation()).norm();
     if (chord_gt < 0.5 * window_m) continue;
@@ -51,6 +53,11 @@ std::optional<ScaleDrift> computeScaleDrift(const Trajectory& gt, const Trajecto
     drift.samples.push_back({along[k], gt[pairs[k].first].timestamp - gt[pairs.front().first].timestamp,
                              s * chord_est / chord_gt});
   }
+  return drift;
+}
+
+// The trend of log σ (header), or nothing with fewer than three samples.
+std::optional<ScaleDrift> fitTrend(ScaleDrift drift, const EvaluationResult& result) {
   if (drift.samples.size() < 3) return std::nullopt;
   std::vector<double> distance, time, log_ratio;
   drift.min_ratio = drift.max_ratio = drift.samples.front().ratio;
@@ -67,6 +74,30 @@ std::optional<ScaleDrift> computeScaleDrift(const Trajectory& gt, const Trajecto
   drift.percent_per_minute = 100.0 * std::expm1(60.0 * per_second);
   drift.percent_over_sequence = 100.0 * std::expm1(per_metre * result.gt_length_m);
   return drift;
+}
+
+}  // namespace
+
+double defaultScaleDriftWindow(double gt_length_m) {
+  return std::max(kMinDefaultWindowM, 0.1 * gt_length_m);
+}
+
+std::optional<ScaleDrift> computeScaleDrift(const Trajectory& gt, const Trajectory& est,
+                                            const EvaluationResult& result, double window_m) {
+  return fitTrend(localScales(gt, est, result, window_m), result);
+}
+
+std::optional<ScaleDrift> computeScaleDriftDefaultWindow(const Trajectory& gt,
+                                                         const Trajectory& est,
+                                                         const EvaluationResult& result) {
+  double window = defaultScaleDriftWindow(result.gt_length_m);
+  ScaleDrift drift = localScales(gt, est, result, window);
+  while (2 * drift.samples.size() < static_cast<size_t>(drift.pairs_with_window) &&
+         0.5 * window >= kMinDefaultWindowM) {
+    window *= 0.5;
+    drift = localScales(gt, est, result, window);
+  }
+  return fitTrend(std::move(drift), result);
 }
 
 }  // namespace omnidso

@@ -30,7 +30,7 @@ struct EvalArguments {
   std::string delta_unit = "f";
   bool pairs_from_reference = false;
   bool json = false;
-  double drift_window_m = 0.0;  // 0: defaultScaleDriftWindow
+  double drift_window_m = 0.0;  // 0: computeScaleDriftDefaultWindow
   std::string plot;             // PNG: ATE and local scale over time
   bool strict = false;  // refuse repeated or out-of-order timestamps instead of repairing
 };
@@ -135,9 +135,9 @@ void runEval(const EvalArguments& args) {
         "[{:.6f}, {:.6f}] s)", args.gt_path, gt.size(), gt.front().timestamp,
         gt.back().timestamp, est.size(), est.front().timestamp, est.back().timestamp));
   }
-  const double window =
-      args.drift_window_m > 0 ? args.drift_window_m : defaultScaleDriftWindow(result.gt_length_m);
-  const std::optional<ScaleDrift> drift = computeScaleDrift(gt, est, result, window);
+  const std::optional<ScaleDrift> drift =
+      args.drift_window_m > 0 ? computeScaleDrift(gt, est, result, args.drift_window_m)
+                              : computeScaleDriftDefaultWindow(gt, est, result);
   if (!args.plot.empty()) writeEvaluationPlot(args.plot, gt, result, drift);
   if (args.json) {
     std::cout << resultJson(args, result, drift, gt.size(), est.size()).dump(2) << "\n";
@@ -176,7 +176,8 @@ void registerEvalCommand(CLI::App& app) {
                 "RPE in metres: choose pairs along the ground truth, not the estimate");
   cmd->add_option("--drift-window", args->drift_window_m,
                   "scale drift: ground-truth path length over which the local scale is "
-                  "measured (m; default a tenth of the path, at least 0.5 m)")
+                  "measured (m; default a tenth of the path, at least 0.5 m, halved while fewer "
+                  "than half the pairs give a chord of at least half of it)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--plot", args->plot,
                   "write a PNG: ATE over time beside the local scale over time (refused if it exists)");

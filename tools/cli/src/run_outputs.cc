@@ -51,7 +51,7 @@ nlohmann::json evaluateSegment(const Trajectory& gt, const Trajectory& est, doub
     j["gt_path_length_m"] = length;
     if (length > 0) j["rmse_percent_of_path"] = 100.0 * r.ate.rmse / length;
     j["sim3_scale"] = r.alignment.scale();
-    if (const auto drift = computeScaleDrift(gt, est, r, defaultScaleDriftWindow(r.gt_length_m)))
+    if (const auto drift = computeScaleDriftDefaultWindow(gt, est, r))
       j["scale_drift"] = scaleDriftJson(*drift);
   } catch (const Error& e) {
     j["error"] = e.what();
