@@ -183,7 +183,7 @@ TEST(Initializer, FindsTheTranslationAtTheSnapWhenTheViewReadItAsATurn) {
                                     init.truth.translation().normalized()))) * 180 / M_PI;
     std::cout << init.status << "; rotation error " << rotation_error_deg
               << " deg, direction error " << direction_error_deg << " deg\n";
-    // Measured 0.05° and 0.3°, 0.06° and 0.3°; over the 84 starts the right basin gave at
+    // Measured 0.05° and 0.3°, 0.06° and 0.3°; over the 118 starts the right basin gave at
     // most 0.24° and 1.1°, the wrong one 3.2–3.9° and 16–26°.
     EXPECT_LT(rotation_error_deg, 0.5);
     EXPECT_LT(direction_error_deg, 3.0);

@@ -49,7 +49,7 @@ struct ScaleDrift {
   int pairs_with_window = 0;  // pairs k with ground-truth path of at least Δ after them
 };
 
-// The default window: a tenth of the ground-truth length, at least 0.5 m.
+// Where the default window starts: a tenth of the ground-truth length, at least 0.5 m.
 double defaultScaleDriftWindow(double gt_length_m);
 
 // Needs at least three samples for the trend; nullopt when the trajectory is too short for
