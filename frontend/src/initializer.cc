@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "initializer_impl.hpp"
@@ -56,39 +57,39 @@ double Initializer::Impl::solveAllLevels(int levels, const ImagePyramid& frame, 
 // halfway. The pure translations are the other end of that ambiguity.
 double Initializer::Impl::solveAtSnap(int levels, const ImagePyramid& frame, double exposure,
                                       std::vector<bool>* valid) {
-  const auto pre_pose = pose;
-  const auto pre_affine = affine;
-  const std::vector<double> pre_distances = inverse_distances;
+  const InitializerState pre_snap{SE3d::fromParameters(pose.data()),
+                                  Eigen::Vector2d(affine[0], affine[1]), inverse_distances};
   const double rmse = solveAllLevels(levels, frame, exposure, /*snapped=*/true, valid);
-  const double step = SE3d::fromParameters(pre_pose.data()).translation().norm();
+  const double step = pre_snap.T_world_frame.translation().norm();
   // A default above the acceptance bound is a lost alignment: the parallax that triggered the
   // snap is then an artefact, and a start fitted to it has no translation to find — with the
   // rotation search off, a 10° swing was "initialised" so (WaitsWhenNoPointProjectsAnyMore).
   if (!options.snap_translation_starts || !(step > 0) || !(rmse <= options.max_rmse)) return rmse;
-  struct Solution {
-    double rmse;
-    std::array<double, 7> pose;
-    std::array<double, 2> affine;
-    std::vector<double> inverse_distances;
-    std::vector<bool> valid;
-  };
-  Solution best{rmse, pose, affine, inverse_distances, *valid};
-  const double bar = options.snap_translation_start_gain * rmse;
+  // Each start is solved on its own state (withState), the default's solution staying put.
+  double best_rmse = options.snap_translation_start_gain * rmse;  // what a start must beat
+  std::optional<InitializerState> best;
+  std::vector<bool> best_valid;
   for (int axis = 0; axis < 3; ++axis)
     for (const double sign : {1.0, -1.0}) {
-      SE3d start;
-      start.translation()[axis] = sign * step;
-      start.toParameters(pose.data());
-      affine = pre_affine;
-      inverse_distances = pre_distances;
-      const double r = solveAllLevels(levels, frame, exposure, /*snapped=*/true, valid);
-      if (r < bar && r < best.rmse) best = {r, pose, affine, inverse_distances, *valid};
+      InitializerState start = pre_snap;
+      start.T_world_frame = SE3d();
+      start.T_world_frame.translation()[axis] = sign * step;
+      std::vector<bool> start_valid;
+      const double r = withState(&start, [&] {
+        return solveAllLevels(levels, frame, exposure, /*snapped=*/true, &start_valid);
+      });
+      if (r < best_rmse) {
+        best_rmse = r;
+        best = std::move(start);
+        best_valid = std::move(start_valid);
+      }
     }
-  pose = best.pose;
-  affine = best.affine;
-  inverse_distances = std::move(best.inverse_distances);
-  *valid = std::move(best.valid);
-  return best.rmse;
+  if (!best) return rmse;
+  best->T_world_frame.toParameters(pose.data());
+  affine = {best->affine.x(), best->affine.y()};
+  inverse_distances = std::move(best->inverse_distances);
+  *valid = std::move(best_valid);
+  return best_rmse;
 }
 
 
