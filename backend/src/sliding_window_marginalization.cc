@@ -68,8 +68,13 @@ bool SlidingWindow::marginalizePointsNatively(const std::vector<int>& ids) {
   const WindowProblem current = nativePhotometricProblem(points);
   // The same problem with the frames' and intrinsics' values at their first estimate x̄.
   const std::optional<WindowProblem> first_estimate = firstEstimateProblem(current);
-  const PointSchurComplement schur =
-      marginalizePoints(current, first_estimate ? *first_estimate : current);
+  // The image gradient at x as in the solve (DSO); without first-estimate Jacobians in the
+  // solve, at x̄ with the rest of the Jacobian, as Ceres's marginaliser takes it — the native
+  // path then reproduces the Ceres path, its oracle (WindowSolverAgainstCeres).
+  const PointSchurComplement schur = marginalizePoints(
+      current, first_estimate ? *first_estimate : current,
+      options_.first_estimate_jacobians ? WindowPhotometricTerms::ImageGradientAt::kCurrentEstimate
+                                        : WindowPhotometricTerms::ImageGradientAt::kFirstEstimate);
   if (marginalizer_.addPrior(*problem_, schur.blocks, schur.information, schur.gradient))
     has_prior_ = true;
   for (const WindowPoint* point : points) {

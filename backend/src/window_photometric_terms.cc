@@ -41,8 +41,10 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   using PairToFrames = Eigen::Matrix<double, kPairIntrinsics, 2 * kFrameTangentSize>;
   using PatchResiduals = Eigen::Matrix<double, kN, 1>;
   // Where the r̃ of the Gram matrices' last column comes from: each residual's own
-  // evaluation, or the one a previous pass kept (linearizeAt).
-  enum class ResidualSource { kOwn, kKeep, kKept };
+  // evaluation (kOwn; kKeep also keeps r, r̃ and ∇I_j for the next pass), or the one the
+  // previous pass kept: kKept with the kept ∇I_j and robust weight (DSO's first-estimate
+  // Jacobians), kKeptWithOwnGradient with this pass's (the whole Jacobian at its values).
+  enum class ResidualSource { kOwn, kKeep, kKept, kKeptWithOwnGradient };
 
  public:
   double evaluate(const WindowProblem& problem, WindowNormalEquations* equations,
@@ -51,8 +53,11 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   }
 
   void linearizeAt(const WindowProblem& current, const WindowProblem& first_estimate,
-                   WindowNormalEquations* equations) override {
-    evaluateAt(current, first_estimate, equations, nullptr);
+                   WindowNormalEquations* equations, ImageGradientAt gradient_at) override {
+    evaluatePass(current, nullptr, nullptr, ResidualSource::kKeep);
+    evaluatePass(first_estimate, equations, nullptr, gradient_at == ImageGradientAt::kCurrentEstimate
+                                                         ? ResidualSource::kKept
+                                                         : ResidualSource::kKeptWithOwnGradient);
   }
 
   double evaluateAt(const WindowProblem& current, const WindowProblem& first_estimate,
@@ -101,7 +106,7 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
     const int num_residuals = static_cast<int>(problem.residuals.size());
     groupResidualsByPair(problem);
     terms_.resize(num_residuals);
-    if (source == ResidualSource::kKeep) kept_residuals_.resize(num_residuals);
+    if (source == ResidualSource::kKeep) kept_.resize(num_residuals);
     const bool with_equations = equations != nullptr;
     // OutOfBoundsPenalty's constant residual √(E/N) per pixel.
     const PatchResiduals penalty = PatchResiduals::Constant(std::sqrt(problem.out_of_bounds_energy / kN));
@@ -119,30 +124,39 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
         const int p = problem.residuals[k].point;
         const WindowPointBlock& point = problem.points[p];
         ResidualTerms& terms = terms_[i];
+        const bool keep = source == ResidualSource::kKeep;
+        const bool kept_gradient = source == ResidualSource::kKept;
+        const bool kept = kept_gradient || source == ResidualSource::kKeptWithOwnGradient;
+        if (kept_gradient && !kept_[i].valid) {  // r is the constant penalty: no gradient
+          terms.valid = false;
+          continue;
+        }
         const PhotometricStatus status = evaluatePhotometricPatch(
             camera, samplers[problem.residuals[k].target], *point.patch, bearings_[p],
             pairs_[pair], *point.inverse_distance, r.data(), with_equations ? &patch : nullptr,
-            want_intrinsics);
+            want_intrinsics, keep ? &kept_[i].image_gradients : nullptr,
+            kept_gradient ? &kept_[i].image_gradients : nullptr);
         terms.valid = status == PhotometricStatus::kValid;
-        const bool keep = source == ResidualSource::kKeep;
+        if (keep) kept_[i].valid = terms.valid;
         if (!terms.valid) {  // a zero Jacobian: nothing to accumulate
           if (keep) {
-            kept_residuals_[i] = penalty;
-            invalid_correction.correctResiduals(kept_residuals_[i]);
+            kept_[i].residuals = penalty;
+            invalid_correction.correctResiduals(kept_[i].residuals);
           }
           continue;
         }
+        if (kept_gradient) r = kept_[i].raw_residuals;  // robust-weighted at the kept r
         terms.energy = r.squaredNorm();
         const RobustCorrection correction(problem.photometric_loss, r.squaredNorm());
         terms.cost = correction.cost();
         if (keep) {
-          kept_residuals_[i] = r;
-          correction.correctResiduals(kept_residuals_[i]);
+          kept_[i].raw_residuals = r;
+          kept_[i].residuals = r;
+          correction.correctResiduals(kept_[i].residuals);
         }
         if (with_equations)
           accumulate(*point.patch, patch, pair, *point.inverse_distance, r, correction,
-                     source == ResidualSource::kKept ? &kept_residuals_[i] : nullptr,
-                     want_intrinsics, &gram, &terms);
+                     kept ? &kept_[i].residuals : nullptr, want_intrinsics, &gram, &terms);
       }
       if (with_equations) pair_grams_[pair] = gram;
     });
@@ -364,7 +378,15 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
   std::vector<PairGram> pair_grams_;
   std::vector<int> pair_begin_, residuals_by_pair_, position_by_pair_, used_pairs_;
   std::vector<ResidualTerms> terms_;  // per residual, in residuals_by_pair_ order
-  std::vector<PatchResiduals> kept_residuals_;  // r̃ at `current` (linearizeAt), likewise
+  // What the evaluation at `current` leaves for the Jacobians at the first estimate
+  // (evaluateAt), per residual in residuals_by_pair_ order.
+  struct KeptEvaluation {
+    bool valid = false;
+    PatchResiduals raw_residuals;  // r
+    PatchResiduals residuals;      // r̃, robust-corrected
+    PatchImageGradients<kN> image_gradients;
+  };
+  std::vector<KeptEvaluation> kept_;
 };
 
 }  // namespace

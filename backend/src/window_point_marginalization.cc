@@ -28,7 +28,8 @@ Eigen::VectorXd frameSpaceDelta(const WindowProblem& current, const WindowProble
 }  // namespace
 
 PointSchurComplement marginalizePoints(const WindowProblem& current,
-                                       const WindowProblem& first_estimate) {
+                                       const WindowProblem& first_estimate,
+                                       WindowPhotometricTerms::ImageGradientAt gradient_at) {
   if (current.frames.size() != first_estimate.frames.size() ||
       current.points.size() != first_estimate.points.size() ||
       current.residuals.size() != first_estimate.residuals.size())
@@ -37,7 +38,7 @@ PointSchurComplement marginalizePoints(const WindowProblem& current,
   const int num_points = static_cast<int>(current.points.size());
   WindowNormalEquations equations;
   equations.reset(current.frameSpaceSize(), num_points);
-  current.photometric->linearizeAt(current, first_estimate, &equations);
+  current.photometric->linearizeAt(current, first_estimate, &equations, gradient_at);
 
   // g = Σ J̃ᵀr̃ − H (x ⊟ x̄): the frames' part and each point's (δ_p = 0: a point's x̄ is x).
   const Eigen::VectorXd delta = frameSpaceDelta(current, first_estimate);

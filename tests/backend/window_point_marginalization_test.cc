@@ -109,7 +109,11 @@ TEST_P(WindowPointMarginalization, FormsTheSchurComplementOfCeresLinearization) 
   ASSERT_TRUE(native);
   PointProblems problems = pointProblems(*native, kHost);
   ASSERT_GT(problems.current.points.size(), 20u);
-  const PointSchurComplement schur = marginalizePoints(problems.current, problems.first_estimate);
+  // Ceres evaluates a residual block's whole Jacobian at x̄, the image gradient included; the
+  // odometry's linearisation takes that at x (DSO; WindowFirstEstimate tests it).
+  const PointSchurComplement schur =
+      marginalizePoints(problems.current, problems.first_estimate,
+                        WindowPhotometricTerms::ImageGradientAt::kFirstEstimate);
 
   // Ceres: the same residual blocks, columns [points | the frames' variable blocks | c].
   ceres::Problem& problem = window->mutableProblem();

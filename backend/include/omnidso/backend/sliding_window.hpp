@@ -117,12 +117,14 @@ struct WindowOptions {
   // The native solver takes every photometric residual's Jacobian with respect to a frame at
   // that frame's first estimate once a prior holds it (and the intrinsics' likewise), as DSO
   // does, so that the residuals and the priors share one linearisation point and one null
-  // space; the residuals' values stay at the current estimate. With Jacobians at the current
+  // space; the residuals' values, their robust weights and the image gradients stay at the
+  // current estimate (window_photometric_terms.hpp). With Jacobians at the current
   // estimate, the priors' null space (at x̄) and the residuals' (at x) part once the
   // translations move, and the priors push along the scale: D3's full image drifted by +6 %
   // in three seeds of five (docs/performance.md, "First-estimate Jacobians in the window").
   // Setting `window.first_estimate_jacobians`; the Ceres path (native_solver = false)
-  // linearises at x either way.
+  // linearises at x either way. false: the native solve linearises at x and the points'
+  // marginalisation takes the whole Jacobian at x̄, as the Ceres path does.
   bool first_estimate_jacobians = true;
   // The native window solver (window_solver.hpp) instead of ceres::Solve: the same problem,
   // the same Levenberg–Marquardt semantics, faster (docs/performance.md, "The native window

@@ -50,13 +50,22 @@ class WindowPhotometricTerms {
   virtual double evaluate(const WindowProblem& problem, WindowNormalEquations* equations,
                           std::vector<double>* energies = nullptr) = 0;
   // The marginalisation's linearisation (marginalizer.hpp, step 2, with first-estimate
-  // Jacobians): into `equations`, every residual's J̃ᵀJ̃ and J̃ᵀr̃ with J̃ at the values of
-  // `first_estimate` (robust-corrected at its residual there) and r̃ at the values of
-  // `current` — two problems with the same points and residuals whose frames and intrinsics
-  // point to different values. A residual invalid at `first_estimate` adds nothing (its
-  // Jacobian is zero); one invalid at `current` has OutOfBoundsPenalty's residual there.
+  // Jacobians): into `equations`, every residual's J̃ᵀJ̃ and J̃ᵀr̃ with r̃ at the values of
+  // `current` and J̃ at those of `first_estimate` — two problems with the same points and
+  // residuals whose frames and intrinsics point to different values. `gradient_at` says where
+  // J̃ takes the image gradient ∇I_j:
+  //  - kCurrentEstimate (DSO, Engel et al. 2018, sec. 2.3; the solver and the marginalisation):
+  //    the geometric factors ∂π/∂x̃ ∂x̃/∂ξ at `first_estimate`, ∇I_j and the robust weight at
+  //    `current`, where the residual is — the image is not smooth on the scale of how far a
+  //    projection moves between the two. A residual invalid at either adds nothing.
+  //  - kFirstEstimate: the whole Jacobian and its robust weight at `first_estimate`, as Ceres
+  //    evaluates a residual block there (the tests' oracle). A residual invalid at
+  //    `first_estimate` adds nothing; one invalid at `current` has OutOfBoundsPenalty's
+  //    residual there.
+  enum class ImageGradientAt { kCurrentEstimate, kFirstEstimate };
   virtual void linearizeAt(const WindowProblem& current, const WindowProblem& first_estimate,
-                           WindowNormalEquations* equations) = 0;
+                           WindowNormalEquations* equations,
+                           ImageGradientAt gradient_at = ImageGradientAt::kCurrentEstimate) = 0;
   // evaluate() at `current` — the cost and `energies` — with the normal equations of
   // linearizeAt(current, first_estimate): the window's solve with first-estimate Jacobians
   // (WindowOptions::first_estimate_jacobians).

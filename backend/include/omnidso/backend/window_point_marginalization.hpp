@@ -9,7 +9,8 @@
 // For the points of `current` — all their residuals and only those; no prior touches a
 // point — with x̄ the first-estimate point of the frames' and the intrinsics' blocks
 // (`first_estimate`: the same problem with those blocks' values at x̄; the points at x):
-//   per residual   J̃ at x̄, r̃ at x, r₀ = r̃ − J̃ (x ⊟ x̄)
+//   per residual   J̃ at x̄ (the image gradient at x: window_photometric_terms.hpp), r̃ at x,
+//                  r₀ = r̃ − J̃ (x ⊟ x̄)
 //   H = Σ J̃ᵀJ̃,    g = Σ J̃ᵀ r₀ = Σ J̃ᵀ r̃ − H (x ⊟ x̄)
 //   H* = H_KK − Σ_p w_pᵀ w_p / h_p,   g* = g_K − Σ_p w_pᵀ g_p / h_p
 // with K the variable frame and intrinsics blocks that some residual touches, and p over the
@@ -19,6 +20,7 @@
 // pose_manifold for poses), the tangent of the native Jacobians.
 
 #include <Eigen/Core>
+#include <omnidso/backend/window_photometric_terms.hpp>
 #include <omnidso/backend/window_problem.hpp>
 #include <vector>
 
@@ -31,7 +33,11 @@ struct PointSchurComplement {
   Eigen::VectorXd gradient;     // g*
 };
 
-PointSchurComplement marginalizePoints(const WindowProblem& current,
-                                       const WindowProblem& first_estimate);
+// `gradient_at`: WindowPhotometricTerms::linearizeAt's (the image gradient at the current
+// estimate, as DSO; kFirstEstimate is Ceres's linearisation, the tests' oracle).
+PointSchurComplement marginalizePoints(
+    const WindowProblem& current, const WindowProblem& first_estimate,
+    WindowPhotometricTerms::ImageGradientAt gradient_at =
+        WindowPhotometricTerms::ImageGradientAt::kCurrentEstimate);
 
 }  // namespace omnidso

@@ -50,7 +50,8 @@ PhotometricStatus PhotometricResidualAnalytic<Camera, N>::evaluate(double const*
   const bool want_intrinsics = jacobians && jacobians[5];
   HostBearings<N, kNumIntrinsics> bearings;
   unprojectHostPattern(camera, observation_.host, want_intrinsics, &bearings);
-  Eigen::Matrix<double, N, 1> r;
+  // Zeroed for GCC 12's -Wmaybe-uninitialized, which does not follow the status check below.
+  Eigen::Matrix<double, N, 1> r = Eigen::Matrix<double, N, 1>::Zero();
   PatchDerivatives<N, kNumIntrinsics> patch;
   const PhotometricStatus status =
       evaluatePhotometricPatch(camera, sampler_, observation_.host, bearings, pair, d, r.data(),

@@ -84,9 +84,18 @@ struct PatchDerivatives {
   Eigen::Matrix<double, N, K, Eigen::RowMajor> d_r_d_intrinsics;
 };
 
+// ∇I_j(p'_o) per pattern pixel, without the weight √w_o.
+template <int N>
+using PatchImageGradients = Eigen::Matrix<double, N, 2, Eigen::RowMajor>;
+
 // r_o for every pattern pixel, and the derivative rows when `derivatives` is given
 // (∂r/∂c_L only with want_intrinsics; `bearings` must then hold ∂b/∂c). On any status but
 // kValid, `residuals` and `derivatives` hold partial values and must not be used.
+// `sampled_gradients` receives ∇I_j at this evaluation's p'_o. With `image_gradients` the
+// derivative rows take ∇I_j from there instead of from this evaluation: first-estimate
+// Jacobians (DSO, Engel et al. 2018, sec. 2.3) evaluate the geometry ∂π/∂x̃ at the
+// linearisation point but the image gradient at the current estimate, where the residual
+// is — the image is not smooth on the scale of how far p'_o moves between the two.
 // Two passes: first every pixel's projection and target sample, then the residuals and
 // derivative rows — the target-image reads, where the solvers wait on memory, are then
 // issued close together instead of one per pixel's worth of arithmetic. The first failure
@@ -96,7 +105,9 @@ PhotometricStatus evaluatePhotometricPatch(
     const CameraD& camera, const ImageSampler& sampler, const HostPatch<N>& host,
     const HostBearings<N, CameraD::kNumParams>& bearings, const PhotometricPair& pair,
     double inverse_distance, double* residuals,
-    PatchDerivatives<N, CameraD::kNumParams>* derivatives, bool want_intrinsics) {
+    PatchDerivatives<N, CameraD::kNumParams>* derivatives, bool want_intrinsics,
+    PatchImageGradients<N>* sampled_gradients = nullptr,
+    const PatchImageGradients<N>* image_gradients = nullptr) {
   const double d = inverse_distance;
   if (!(d >= 0.0)) return PhotometricStatus::kNegativeInverseDistance;
   std::array<Eigen::Vector3d, N> x;
@@ -124,13 +135,17 @@ PhotometricStatus evaluatePhotometricPatch(
       return PhotometricStatus::kOutsideImage;
   }
   if (num_projected < N) return projection_status;
+  if (sampled_gradients)
+    for (int o = 0; o < N; ++o) sampled_gradients->row(o) << di_du[o], di_dv[o];
 
   for (int o = 0; o < N; ++o) {
     const double sw = host.sqrt_weight[o];
     const double h = host.intensity[o] - pair.b_host;
     residuals[o] = sw * ((intensity[o] - pair.b_target) - pair.s * h);
     if (!derivatives) continue;
-    const Eigen::RowVector2d grad = sw * Eigen::RowVector2d(di_du[o], di_dv[o]);
+    const Eigen::RowVector2d grad =
+        sw * (image_gradients ? Eigen::RowVector2d(image_gradients->row(o))
+                              : Eigen::RowVector2d(di_du[o], di_dv[o]));
     const Eigen::RowVector3d g = grad * d_uv_d_x[o];  // ∂r/∂x̃
     derivatives->d_r_d_x.row(o) = g;
     derivatives->point.row(o) = x[o].transpose();
