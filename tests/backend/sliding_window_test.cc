@@ -5,10 +5,12 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <omnidso/backend/sliding_window.hpp>
 #include <omnidso/residuals/out_of_bounds_penalty.hpp>
 #include <omnidso/synth/synthetic_sequence.hpp>
 #include <random>
+#include <string>
 
 #include "window_test_scenes.hpp"
 
@@ -271,6 +273,61 @@ TEST(SlidingWindowGauge, ScaleAnchorIsReplacedWhenItsPointLeaves) {
       EXPECT_EQ(second, -1);
       EXPECT_EQ(unchanged, 0);
     }
+  }
+}
+
+// Which leaving points a prior takes (WindowOptions::min_residuals_to_marginalize, DSO's rule):
+// a point with fewer than three residuals is dropped, so a wrong inverse distance resting on
+// one or two patches cannot enter the prior, which would keep it for the rest of the run.
+// Two equal windows, one with every such point of the leaving keyframe 50 % too near: after
+// the keyframe's marginalisation their priors are the same bit for bit. Marginalised, the
+// wrong points make them differ (the rule at 1, the behaviour before).
+TEST(SlidingWindowMarginalization, PointsSeenByFewerThanThreeKeyframesCannotBiasThePrior) {
+  constexpr int kNumKeyframes = 4;
+  const auto priorResiduals = [](SlidingWindow& window) {
+    const std::optional<WindowProblem> problem = window.nativeProblem();
+    EXPECT_TRUE(problem.has_value());
+    std::vector<double> out;
+    if (!problem) return out;
+    for (const WindowPrior& prior : problem->priors) {
+      std::vector<const double*> blocks;
+      for (const WindowPriorBlock& b : prior.blocks) blocks.push_back(b.values);
+      std::vector<double> r(static_cast<size_t>(prior.cost->num_residuals()));
+      EXPECT_TRUE(prior.cost->Evaluate(blocks.data(), r.data(), nullptr));
+      out.insert(out.end(), r.begin(), r.end());
+    }
+    return out;
+  };
+  for (const int min_residuals : {3, 1}) {
+    SCOPED_TRACE("min_residuals_to_marginalize " + std::to_string(min_residuals));
+    WindowOptions options = recoveryOptions(kNumKeyframes, false);
+    options.min_residuals_to_marginalize = min_residuals;
+    auto clean = perturbedWindow(test::sweepCamera(), test::sweepScene(kNumKeyframes), options, kNumKeyframes);
+    auto wrong = perturbedWindow(test::sweepCamera(), test::sweepScene(kNumKeyframes), options, kNumKeyframes);
+    const int leaving = clean->keyframeIds()[1];
+    int weak = 0, strong = 0;
+    for (const auto& [id, point] : wrong->points()) {
+      if (point->host_id != leaving) continue;
+      if (point->residuals.size() < 3) {
+        point->inverse_distance *= 1.5;
+        ++weak;
+      } else {
+        ++strong;
+      }
+    }
+    std::cout << "points of the leaving keyframe: " << weak << " with one or two residuals, "
+              << strong << " with three\n";
+    ASSERT_GT(weak, 0);
+    ASSERT_GT(strong, 0);
+    clean->marginalizeKeyframe(leaving);
+    wrong->marginalizeKeyframe(leaving);
+    ASSERT_TRUE(clean->hasPrior());
+    const std::vector<double> a = priorResiduals(*clean), b = priorResiduals(*wrong);
+    ASSERT_EQ(a.size(), b.size());
+    if (min_residuals == 3)
+      EXPECT_EQ(a, b);
+    else
+      EXPECT_NE(a, b);
   }
 }
 

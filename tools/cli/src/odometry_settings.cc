@@ -52,6 +52,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"window.outlier_threshold.fixed_energy_per_pixel",
        &o.window.outlier_threshold.fixed_energy_per_pixel},
       {"window.min_residuals_per_point", &o.window.min_residuals_per_point},
+      {"window.min_residuals_to_marginalize", &o.window.min_residuals_to_marginalize},
       {"window.huber_threshold", &o.window.huber_threshold},
       {"window.affine_prior_weight_a", &o.window.affine_prior_weight_a},
       {"window.affine_prior_weight_b", &o.window.affine_prior_weight_b},
