@@ -52,11 +52,16 @@ void scaleDirection(const WindowProblem& problem, Eigen::VectorXd* v_frames,
     (*v_points)[static_cast<int>(p)] = problem.points[p].constant ? 0.0 : -*problem.points[p].inverse_distance;
 }
 
-TEST(WindowFirstEstimate, TheResidualsShareTheFirstEstimatesScaleNullSpace) {
+// The perturbed sweep window of the tests, solved natively.
+std::unique_ptr<SlidingWindow> nativeTestWindow() {
   WindowOptions options = test::recoveryOptions(kNumKeyframes, true);
   options.native_solver = true;
-  auto window =
-      test::perturbedWindow(test::sweepCamera(), test::sweepScene(kNumKeyframes), options, kNumKeyframes);
+  return test::perturbedWindow(test::sweepCamera(), test::sweepScene(kNumKeyframes), options,
+                               kNumKeyframes);
+}
+
+TEST(WindowFirstEstimate, TheResidualsShareTheFirstEstimatesScaleNullSpace) {
+  auto window = nativeTestWindow();
   const std::optional<WindowProblem> current = window->nativeProblem();
   ASSERT_TRUE(current.has_value());
   ASSERT_TRUE(current->frames.front().pose_constant);
@@ -110,10 +115,7 @@ TEST(WindowFirstEstimate, TheResidualsShareTheFirstEstimatesScaleNullSpace) {
 // those at x up to the geometric factors' change, O(0.5°) relative; sampled at x̄'s
 // projections instead, ∇I belongs to other pixels.
 TEST(WindowFirstEstimate, TheImageGradientIsTakenAtTheCurrentEstimate) {
-  WindowOptions options = test::recoveryOptions(kNumKeyframes, true);
-  options.native_solver = true;
-  auto window =
-      test::perturbedWindow(test::sweepCamera(), test::sweepScene(kNumKeyframes), options, kNumKeyframes);
+  auto window = nativeTestWindow();
   const std::optional<WindowProblem> current = window->nativeProblem();
   ASSERT_TRUE(current.has_value());
 
