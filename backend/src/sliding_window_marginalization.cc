@@ -1,9 +1,10 @@
 // SlidingWindow's marginalisation step (sliding_window.hpp, paper Sec. V-C): the policy's
 // view of the window, then for a keyframe leaving it — its points and the points the two
-// newest keyframes no longer observe are marginalised into the prior (those with fewer than
-// WindowOptions::min_residuals_to_marginalize residuals dropped instead) (kept for the map as
+// newest keyframes no longer observe are marginalised into the prior (kept for the map as
 // MarginalizedPoint; natively where their residual blocks are deferred,
-// window_point_marginalization.hpp), the other points' residuals into it are dropped (DSO:
+// window_point_marginalization.hpp) — those with fewer than
+// WindowOptions::min_residuals_to_marginalize residuals are dropped instead, neither in the
+// prior nor in the map —, the other points' residuals into it are dropped (DSO:
 // sparsity), and finally its own pose and affine blocks are marginalised (marginalizer.hpp).
 #include <algorithm>
 #include <omnidso/backend/sliding_window.hpp>
@@ -92,6 +93,7 @@ void SlidingWindow::marginalizeKeyframe(int id) {
     if (keyframes_[i]->id != id) newest_two.push_back(keyframes_[i]->id);
 
   // 1. Points hosted by the keyframe, or no longer observed by the two newest keyframes.
+  const size_t min_residuals = std::max(1, options_.min_residuals_to_marginalize);
   std::vector<double*> to_marginalize;
   std::vector<int> marginalized_ids, dropped_ids;
   for (const auto& [pid, point] : points_) {
@@ -99,7 +101,6 @@ void SlidingWindow::marginalizeKeyframe(int id) {
     for (int n : newest_two)
       observed_by_newest |= point->host_id == n || point->residuals.count(n) > 0;
     if (point->host_id != id && observed_by_newest) continue;
-    const size_t min_residuals = std::max(1, options_.min_residuals_to_marginalize);
     if (point->residuals.size() < min_residuals) {
       dropped_ids.push_back(pid);
     } else {

@@ -146,9 +146,10 @@ struct WindowOptions {
   // A point leaving the window with fewer residuals than this is dropped, not marginalised
   // (DSO's setting_minGoodActiveResForMarg, 3): its inverse distance rests on one or two
   // patches, where a wrong match along the epipolar curve cannot yet be told from a right
-  // one, and a prior keeps whatever it linearises for as long as the window runs. On the
-  // native pinhole H12p the first marginalisation took 1 329 points, 685 of them with one or
-  // two residuals (docs/performance.md, "DSO's rule for the points a prior takes").
+  // one, and a prior keeps whatever it linearises for as long as the window runs. A dropped
+  // point is not kept for the map (points.ply) either. On the native pinhole H12p the first
+  // marginalisation took 1 329 points, 685 of them with one or two residuals
+  // (docs/performance.md, "DSO's rule for the points a prior takes").
   int min_residuals_to_marginalize = 3;
   double huber_threshold = kDsoHuberThreshold;
   // affine_prior.hpp: every keyframe's [a, b] tied to 0 (calibrated photometry, as DSO);
