@@ -23,6 +23,7 @@
 #include <mutex>
 #include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/task_pool.hpp>
+#include <omnidso/frontend/frame_placement.hpp>
 #include <omnidso/frontend/mapping_worker.hpp>
 #include <omnidso/frontend/odometry.hpp>
 #include <string>
@@ -117,11 +118,19 @@ struct Odometry::Impl {
     FrameRecord* record = nullptr;
     std::shared_ptr<const ImagePyramid> pyramid;
     double exposure = 1.0;
-    SE3d T_world_frame;
+    SE3d T_world_frame;  // the reference's pose when tracked · T_frame_ref⁻¹
     Eigen::Vector2d affine = Eigen::Vector2d::Zero();
     bool make_keyframe = false;
     int reference_id = -1;  // the keyframe tracking aligned the frame to
+    // What tracking measured: the pose relative to the reference, and the reference's affine
+    // as published (the gauge of `affine`).
+    SE3d T_frame_reference;
+    Eigen::Vector2d reference_affine = Eigen::Vector2d::Zero();
   };
+  // The frame placed by its reference keyframe's current estimate (frame_placement.hpp): in
+  // the real-time mode a solve may have moved the reference since the frame was tracked. A
+  // reference that has left the window keeps the job's values.
+  FramePlacement placeInWindow(const MappingJob& job) const;
   // Epipolar-curve search of every window keyframe's immature points in the frame (step 3),
   // then, for a keyframe, the window (step 5).
   void map(const MappingJob& job);

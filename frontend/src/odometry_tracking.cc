@@ -50,8 +50,11 @@ void Odometry::Impl::trackFrame(FrameRecord& record, std::shared_ptr<const Image
   ++frames_since_keyframe;
   const bool forced = options.max_keyframe_interval_frames > 0 &&
                       frames_since_keyframe >= options.max_keyframe_interval_frames;
-  const MappingJob job{&record, pyramid,         exposure, T_world_frame,
-                       tracking.affine, decision.make_keyframe || forced, ref.id};
+  const MappingJob job{&record,        pyramid,
+                       exposure,       T_world_frame,
+                       tracking.affine, decision.make_keyframe || forced,
+                       ref.id,         tracking.T_frame_ref,
+                       ref.affine};
   if (job.make_keyframe) frames_since_keyframe = 0;
   record.timing.tracking_ms = watch.lapMs();
   if (worker) {
