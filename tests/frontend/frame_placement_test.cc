@@ -121,9 +121,9 @@ TEST(FramePlacement, TheSearchAfterTheWindowMovedTheReferenceFindsTheTrueMatches
   // Rounding can tip a match that sits exactly on one of the search's thresholds, nothing more.
   EXPECT_NEAR(placed.good, truth.good, 2);
   EXPECT_NEAR(placed.match_within_half_pixel, truth.match_within_half_pixel, 2);
-  // With the pose and affine from before the move the curves lie off by the move's 3° (≈ 14 px)
-  // and the transfer's gain is wrong by e^{0.3}: few true matches (this is what the real-time
-  // mode searched with before).
+  // With the pose and affine from before the move the relative pose is off by the move (3.7°
+  // and 0.37 m: the curves tens of pixels away) and the transfer's gain by e^{0.3}: few true
+  // matches (what the real-time mode searched with before).
   EXPECT_LT(stale.match_within_half_pixel, truth.match_within_half_pixel / 4);
 }
 
