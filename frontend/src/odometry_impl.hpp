@@ -122,15 +122,12 @@ struct Odometry::Impl {
     Eigen::Vector2d affine = Eigen::Vector2d::Zero();
     bool make_keyframe = false;
     int reference_id = -1;  // the keyframe tracking aligned the frame to
-    // What tracking measured: the pose relative to the reference, and the reference's affine
-    // as published (the gauge of `affine`).
-    SE3d T_frame_reference;
-    Eigen::Vector2d reference_affine = Eigen::Vector2d::Zero();
+    SE3d T_frame_reference;  // what tracking measured
   };
-  // The frame placed by its reference keyframe's current estimate (frame_placement.hpp): in
-  // the real-time mode a solve may have moved the reference since the frame was tracked. A
-  // reference that has left the window keeps the job's values.
-  FramePlacement placeInWindow(const MappingJob& job) const;
+  // The frame's world pose placed by its reference keyframe's current estimate
+  // (frame_placement.hpp): in the real-time mode a solve may have moved the reference since
+  // the frame was tracked. A reference that has left the window keeps the job's pose.
+  SE3d placeInWindow(const MappingJob& job) const;
   // Epipolar-curve search of every window keyframe's immature points in the frame (step 3),
   // then, for a keyframe, the window (step 5).
   void map(const MappingJob& job);

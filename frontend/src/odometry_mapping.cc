@@ -1,6 +1,6 @@
 // The mapping side of the odometry (odometry.hpp, steps 3 and 5): every window keyframe's
-// immature points are searched along their epipolar curves in the tracked frame, placed by its
-// tracking reference's current estimate (frame_placement.hpp); a keyframe
+// immature points are searched along their epipolar curves in the tracked frame, its pose
+// placed by its tracking reference's current estimate (frame_placement.hpp); a keyframe
 // then enters the window, converged candidates are activated (odometry_activation.cc), the
 // window is optimised, outliers removed, the keyframes the policy picks are marginalised
 // (their candidates with them), and the new keyframe gets its own candidates and becomes
@@ -20,26 +20,22 @@ namespace {
 constexpr int kTraceChunk = 32;
 }  // namespace
 
-FramePlacement Odometry::Impl::placeInWindow(const MappingJob& job) const {
+SE3d Odometry::Impl::placeInWindow(const MappingJob& job) const {
   const std::vector<int> ids = window->keyframeIds();
-  if (std::find(ids.begin(), ids.end(), job.reference_id) == ids.end())
-    return {job.T_world_frame, job.affine};
-  const WindowKeyframe& ref = window->keyframe(job.reference_id);
-  return placeByReference(
-      {job.T_frame_reference, job.affine, job.exposure, job.reference_affine},
-      {ref.T_world_cam(), Eigen::Vector2d(ref.affine[0], ref.affine[1]), ref.exposure});
+  if (std::find(ids.begin(), ids.end(), job.reference_id) == ids.end()) return job.T_world_frame;
+  return placeByReference(window->keyframe(job.reference_id).T_world_cam(), job.T_frame_reference);
 }
 
 void Odometry::Impl::map(const MappingJob& job) {
   Stopwatch watch;
-  const FramePlacement placed = placeInWindow(job);
-  const SE3d T_frame_world = placed.T_world_frame.inverse();
+  const SE3d T_world_frame = placeInWindow(job);
+  const SE3d T_frame_world = T_world_frame.inverse();
   for (auto& [host_id, list] : immature) {
     const WindowKeyframe& host = window->keyframe(host_id);
     const SE3d T_frame_host = T_frame_world * host.T_world_cam();
     AffineTransfer transfer;
-    transfer.a = job.exposure * std::exp(placed.affine.x()) / (host.exposure * std::exp(host.affine[0]));
-    transfer.b = placed.affine.y() - transfer.a * host.affine[1];
+    transfer.a = job.exposure * std::exp(job.affine.x()) / (host.exposure * std::exp(host.affine[0]));
+    transfer.b = job.affine.y() - transfer.a * host.affine[1];
     // Each trace reads the frame and writes only its own point: the points are traced in
     // chunks on the compute threads (task_pool.hpp) and the list is compacted in order.
     std::vector<std::uint8_t> dropped(list.size(), 0);
@@ -71,7 +67,7 @@ void Odometry::Impl::map(const MappingJob& job) {
     record.is_keyframe = true;  // its own reference from now on; its pose is the window's
     record.reference_keyframe = record.index;
     record.T_frame_ref = SE3d();
-    makeKeyframe(record, job.pyramid, job.exposure, placed.T_world_frame, placed.affine);
+    makeKeyframe(record, job.pyramid, job.exposure, T_world_frame, job.affine);
     record.timing.mapping_ms = watch.lapMs();
   }
 }

@@ -53,8 +53,7 @@ void Odometry::Impl::trackFrame(FrameRecord& record, std::shared_ptr<const Image
   const MappingJob job{&record,        pyramid,
                        exposure,       T_world_frame,
                        tracking.affine, decision.make_keyframe || forced,
-                       ref.id,         tracking.T_frame_ref,
-                       ref.affine};
+                       ref.id,         tracking.T_frame_ref};
   if (job.make_keyframe) frames_since_keyframe = 0;
   record.timing.tracking_ms = watch.lapMs();
   if (worker) {
