@@ -3,7 +3,6 @@
 // the true matches where the frame's world pose from before the move does not.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <vector>
 
 #include <omnidso/frontend/epipolar_search.hpp>

@@ -9,10 +9,10 @@
 // camToTrackingRef). The real-time mode maps a frame tracked while the mapper was solving only
 // after that solve; with its world pose from before it, the epipolar search formed the frame's
 // pose relative to each host from hosts in the new estimate and a frame in the old one (the
-// uncalibrated H7 lost its scale in two real-time runs of three: docs/performance.md, "The
-// real-time mode places a frame by its reference"). The affine [a, b] stays as tracked, as in
-// DSO: carried into the reference's moved brightness gauge (affine_gauge.hpp) it made one
-// sequence's real-time runs 4× less accurate and none better (same section).
+// uncalibrated H7 lost its scale in real-time runs: docs/performance.md, "The real-time mode
+// places a frame by its reference"). The affine [a, b] stays as tracked, as in DSO: carried
+// into the reference's moved brightness gauge (affine_gauge.hpp) it made one sequence's
+// real-time runs 4× less accurate and did nothing for H7 (same section).
 // With R unmoved the result is the tracker's own T_world_R · T_f_R⁻¹, bit for bit: the
 // deterministic mode maps every frame before the window changes.
 
