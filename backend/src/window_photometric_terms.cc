@@ -106,7 +106,10 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
     const int num_residuals = static_cast<int>(problem.residuals.size());
     groupResidualsByPair(problem);
     terms_.resize(num_residuals);
-    if (source == ResidualSource::kKeep) kept_.resize(num_residuals);
+    const bool keep = source == ResidualSource::kKeep;
+    const bool kept_gradient = source == ResidualSource::kKept;
+    const bool kept = kept_gradient || source == ResidualSource::kKeptWithOwnGradient;
+    if (keep) kept_.resize(num_residuals);
     const bool with_equations = equations != nullptr;
     // OutOfBoundsPenalty's constant residual √(E/N) per pixel.
     const PatchResiduals penalty = PatchResiduals::Constant(std::sqrt(problem.out_of_bounds_energy / kN));
@@ -124,9 +127,6 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
         const int p = problem.residuals[k].point;
         const WindowPointBlock& point = problem.points[p];
         ResidualTerms& terms = terms_[i];
-        const bool keep = source == ResidualSource::kKeep;
-        const bool kept_gradient = source == ResidualSource::kKept;
-        const bool kept = kept_gradient || source == ResidualSource::kKeptWithOwnGradient;
         if (kept_gradient && !kept_[i].valid) {  // r is the constant penalty: no gradient
           terms.valid = false;
           continue;
