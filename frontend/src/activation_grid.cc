@@ -1,11 +1,24 @@
 #include <algorithm>
 #include <cmath>
+#include <omnidso/core/error.hpp>
 #include <omnidso/frontend/activation_grid.hpp>
+#include <string>
 
 namespace omnidso {
 
-ActivationGrid::ActivationGrid(int width, int height, double content_area, int num_points)
-    : cell_(std::max(2.0, std::sqrt(std::max(1.0, content_area) / std::max(1, num_points)))),
+namespace {
+double checkedScale(double cell_scale) {
+  if (!std::isfinite(cell_scale) || cell_scale < 0.0)
+    throw Error("ActivationGrid: the cell scale must be finite and >= 0, got " +
+                std::to_string(cell_scale));
+  return cell_scale;
+}
+}  // namespace
+
+ActivationGrid::ActivationGrid(int width, int height, double content_area, int num_points,
+                               double cell_scale)
+    : cell_(std::max(2.0, checkedScale(cell_scale) *
+                              std::sqrt(std::max(1.0, content_area) / std::max(1, num_points)))),
       cols_(static_cast<int>(std::max(0, width) / cell_) + 1),
       rows_(static_cast<int>(std::max(0, height) / cell_) + 1),
       cells_(static_cast<size_t>(cols_) * rows_, 0) {}

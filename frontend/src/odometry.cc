@@ -14,7 +14,11 @@
 namespace omnidso {
 
 Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
-    : camera(c), mask(validityMask(c)), options(std::move(o)), last_intrinsics(c.params()) {
+    : camera(c),
+      mask(validityMask(c)),
+      options(std::move(o)),
+      activation_density(options.activation_density),
+      last_intrinsics(c.params()) {
   if (!image_mask.empty()) {
     if (image_mask.width() != c.width() || image_mask.height() != c.height())
       throw Error("Odometry: the image mask is " + std::to_string(image_mask.width()) + "x" +

@@ -2,7 +2,8 @@
 // epipolar search has converged (good traces, an interval of at most
 // max_activation_interval_px, quality ≥ min_activation_quality) becomes a window point when
 // it lands in a free cell of the newest keyframe's occupancy grid (activation_grid.hpp: one
-// point per cell of the size that spreads num_points over the image content). The grid is
+// point per cell of the size that spreads num_points over the image content, smaller while
+// the window keeps too few points: activation_density.hpp). The grid is
 // the only bound, as DSO's distance map is: a count cap on the window's points had held every
 // new point back on forward paths. Each candidate is first refined against every window
 // keyframe (new_point_refinement.hpp): unobserved ones wait, inconsistent ones are dropped.
@@ -11,6 +12,7 @@
 #include <optional>
 #include <utility>
 
+#include <omnidso/frontend/activation_density.hpp>
 #include <omnidso/frontend/activation_grid.hpp>
 
 #include "odometry_impl.hpp"
@@ -29,7 +31,8 @@ void Odometry::Impl::activatePoints(int newest_id, const std::vector<int>& leavi
   const SE3d T_newest_world = newest.T_world_cam().inverse();
   const double content_area = static_cast<double>(std::count_if(
       mask.data(), mask.data() + mask.size(), [](std::uint8_t m) { return m != 0; }));
-  ActivationGrid grid(camera.width(), camera.height(), content_area, options.num_points);
+  ActivationGrid grid(camera.width(), camera.height(), content_area, options.num_points,
+                      activation_density.update(window->numPoints(), options.num_points));
   for (const auto& [pid, point] : window->points()) {
     if (is_leaving(point->host_id) || !(point->inverse_distance > 0.0)) continue;
     Eigen::Vector2d u;

@@ -62,6 +62,7 @@ struct Odometry::Impl {
   TrackingReference reference;  // the tracking side's copy
   std::unique_ptr<Initializer> initializer;
   std::map<int, std::vector<ImmaturePoint>> immature;  // by host keyframe
+  ActivationDensity activation_density;  // the grid's cell scale; reset at every segment
 
   std::deque<FrameRecord> frames;  // a deque: records stay put while the mapper writes timings
   std::map<int, KeyframeRecord> keyframes;  // every keyframe ever; poses kept current

@@ -35,12 +35,16 @@ void Odometry::Impl::initialize(FrameRecord& record, std::shared_ptr<const Image
     return;
   }
   WindowOptions window_options = options.window;
-  // Activation fills a grid of num_points cells in the newest keyframe, and the window holds
-  // what the keyframes that remain still observe (measured: 1.2 num_points on average, 1.4
-  // at most, on D3): 4 num_points slots leave room to spare, so that they never run out.
-  window_options.max_points = std::max(window_options.max_points, 4 * options.num_points);
+  // Every window point was a candidate of one of the N_f hosts (the first keyframe's came
+  // from the initialiser's num_points), however finely activation's grid packs them
+  // (activation_density.hpp); one keyframe's worth more leaves room for the selector's counts,
+  // which are approximate. The window holds 1.2 num_points on average (D3).
+  const int per_keyframe = std::max(options.num_candidates, options.num_points);
+  window_options.max_points = std::max(window_options.max_points,
+                                       (window_options.max_keyframes + 1) * per_keyframe);
   window = std::make_unique<SlidingWindow>(camera.modelName(), camera.params(), window_options);
   window->setTaskPool(pool.get());
+  activation_density.reset();
   FrameRecord& first = frames[first_frame_index];
   window->addKeyframe(first.index, first.timestamp, first_exposure, SE3d(),
                       Eigen::Vector2d::Zero(), first_pyramid);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <omnidso/core/error.hpp>
 #include <omnidso/frontend/activation_grid.hpp>
 
 namespace omnidso {
@@ -43,6 +44,30 @@ TEST(ActivationGrid, CrowdedPointsElsewhereDoNotBlockAFreeCell) {
   EXPECT_EQ(grid.numOccupied(), 1);
   EXPECT_FALSE(grid.occupied(Eigen::Vector2d(5.0, 190.0)));
   EXPECT_FALSE(grid.occupied(Eigen::Vector2d(190.0, 5.0)));
+}
+
+// The activation density's cell scale s (activation_density.hpp): c = max(2, s · √(A / N_p)).
+// In a turn the window's points fill the strip the newest keyframe shares with the older
+// ones, one per full cell; at s = 1/2 a candidate between two of them gets a cell of its own.
+TEST(ActivationGrid, ACellScaleBelowOneFreesCellsBetweenTheWindowsPoints) {
+  const ActivationGrid half(480, 480, 480.0 * 480.0, 2000, 0.5);
+  EXPECT_NEAR(half.cellSize(), 0.5 * std::sqrt(230400.0 / 2000.0), 1e-12);
+  EXPECT_EQ(ActivationGrid(480, 480, 480.0 * 480.0, 2000, 0.0).cellSize(), 2.0);  // the floor
+
+  ActivationGrid full(100, 100, 100.0 * 100.0, 100);           // 10 px cells
+  ActivationGrid finer(100, 100, 100.0 * 100.0, 100, 0.5);     // 5 px cells
+  for (int row = 0; row < 10; ++row)
+    for (int col = 0; col < 3; ++col) {  // a strip 30 px wide, a point in each full cell
+      const Eigen::Vector2d u(10.0 * col + 2.0, 10.0 * row + 2.0);
+      full.occupy(u);
+      finer.occupy(u);
+    }
+  const Eigen::Vector2d between(17.0, 47.0);  // 5 px from the nearest point
+  EXPECT_TRUE(full.occupied(between));
+  EXPECT_FALSE(finer.occupied(between));
+  EXPECT_THROW(ActivationGrid(100, 100, 1e4, 100, -0.1), Error);
+  EXPECT_THROW(ActivationGrid(100, 100, 1e4, 100, std::numeric_limits<double>::quiet_NaN()),
+               Error);
 }
 
 TEST(ActivationGrid, PixelsOutsideTheImageAreNeverFree) {

@@ -2,8 +2,9 @@
 // Where new points may be activated: an occupancy grid over the newest keyframe's image.
 //
 // The cells are squares of side
-//   c = max(2, √(A / N_p))        A: the image content's area in pixels, N_p: num_points,
-// so that one point per cell spreads N_p points over the content. A cell is occupied once a
+//   c = max(2, s · √(A / N_p))    A: the image content's area in pixels, N_p: num_points,
+// so that at s = 1 one point per cell spreads N_p points over the content; s < 1 (the
+// activation density, activation_density.hpp) packs them closer where the window is short. A cell is occupied once a
 // window point or a newly activated one projects into it; a candidate is activated only into a
 // free cell (DSO's distance map, Sec. 3.2 of Engel et al., with its distance at the largest).
 //
@@ -21,8 +22,10 @@ namespace omnidso {
 
 class ActivationGrid {
  public:
-  // width × height: the image; content_area: its pixels with content (at least 1 is used).
-  ActivationGrid(int width, int height, double content_area, int num_points);
+  // width × height: the image; content_area: its pixels with content (at least 1 is used);
+  // cell_scale: s above (Error unless finite and ≥ 0).
+  ActivationGrid(int width, int height, double content_area, int num_points,
+                 double cell_scale = 1.0);
 
   double cellSize() const { return cell_; }
   // False for a pixel outside the image.

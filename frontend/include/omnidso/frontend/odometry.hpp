@@ -18,6 +18,7 @@
 #include <omnidso/backend/sliding_window.hpp>
 #include <omnidso/cameras/camera.hpp>
 #include <omnidso/core/camera_encoding.hpp>
+#include <omnidso/frontend/activation_density.hpp>
 #include <omnidso/frontend/coarse_tracker.hpp>
 #include <omnidso/frontend/epipolar_search.hpp>
 #include <omnidso/frontend/initializer.hpp>
@@ -78,6 +79,8 @@ struct OdometryOptions {
   InitializerOptions initializer;
   double max_activation_interval_px = 8.0;  // immature point converged enough to activate
   double min_activation_quality = 3.0;
+  // The activation grid's cell adapted to the window's point count (activation_density.hpp).
+  ActivationDensityOptions activation_density;
   // Converged candidates are optimised against every window keyframe before activation;
   // unobserved ones wait, inconsistent ones are dropped (new_point_refinement.hpp).
   NewPointRefinementOptions activation;
