@@ -54,15 +54,15 @@ TEST(ActivationGrid, ACellScaleBelowOneFreesCellsBetweenTheWindowsPoints) {
   EXPECT_NEAR(half.cellSize(), 0.5 * std::sqrt(230400.0 / 2000.0), 1e-12);
   EXPECT_EQ(ActivationGrid(480, 480, 480.0 * 480.0, 2000, 0.0).cellSize(), 2.0);  // the floor
 
-  ActivationGrid full(100, 100, 100.0 * 100.0, 100);           // 10 px cells
-  ActivationGrid finer(100, 100, 100.0 * 100.0, 100, 0.5);     // 5 px cells
+  ActivationGrid full(100, 100, 100.0 * 100.0, 100);        // 10 px cells
+  ActivationGrid finer(100, 100, 100.0 * 100.0, 100, 0.5);  // 5 px cells
   for (int row = 0; row < 10; ++row)
     for (int col = 0; col < 3; ++col) {  // a strip 30 px wide, a point in each full cell
       const Eigen::Vector2d u(10.0 * col + 2.0, 10.0 * row + 2.0);
       full.occupy(u);
       finer.occupy(u);
     }
-  const Eigen::Vector2d between(17.0, 47.0);  // 5 px from the nearest point
+  const Eigen::Vector2d between(17.0, 47.0);  // 7 px from the four nearest points
   EXPECT_TRUE(full.occupied(between));
   EXPECT_FALSE(finer.occupied(between));
   EXPECT_THROW(ActivationGrid(100, 100, 1e4, 100, -0.1), Error);

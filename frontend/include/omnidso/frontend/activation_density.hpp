@@ -9,7 +9,7 @@
 // keeps crowd that strip: the cells there are taken, the rest of the image has no candidate
 // yet (the new keyframe's own are selected after activation). On a 90° pinhole path turning
 // 100° in 1.5 s (H12p, frames 100–165) the window held 450–800 points of N_p = 2000 for
-// three seconds while 3 000–5 000 converged candidates waited for taken cells; the window's
+// three seconds while 2 400–6 000 converged candidates waited for taken cells; the window's
 // relative rotations across the turn came out 2 % short, the new points' distances 2–5 % short
 // of the map's, and the scale fell by 10 % in the turn (docs/performance.md, "Activation's
 // density adapted to the window's points"). Smaller cells let the candidates in the shared

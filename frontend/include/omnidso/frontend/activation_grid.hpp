@@ -4,9 +4,10 @@
 // The cells are squares of side
 //   c = max(2, s · √(A / N_p))    A: the image content's area in pixels, N_p: num_points,
 // so that at s = 1 one point per cell spreads N_p points over the content; s < 1 (the
-// activation density, activation_density.hpp) packs them closer where the window is short. A cell is occupied once a
-// window point or a newly activated one projects into it; a candidate is activated only into a
-// free cell (DSO's distance map, Sec. 3.2 of Engel et al., with its distance at the largest).
+// activation density, activation_density.hpp) packs them closer while the window is short.
+// A cell is occupied once a window point or a newly activated one projects into it; a
+// candidate is activated only into a free cell (DSO's distance map, Sec. 3.2 of Engel et al.,
+// with its distance at the largest).
 //
 // The grid is the only bound on activation: how many points the window holds elsewhere does
 // not matter. A window full of points that cluster in a few cells — on a forward path the far
