@@ -9,6 +9,7 @@
 #include <cmath>
 #include <omnidso/core/timing.hpp>
 #include <omnidso/frontend/affine_gauge.hpp>
+#include <omnidso/frontend/frame_placement.hpp>
 
 #include "odometry_impl.hpp"
 
@@ -68,6 +69,10 @@ void Odometry::Impl::trackFrame(FrameRecord& record, std::shared_ptr<const Image
     const WindowKeyframe& kf = window->keyframe(record.index);
     last_affine = Eigen::Vector2d(kf.affine[0], kf.affine[1]);
     T_world_last = kf.T_world_cam();
+    // The velocity's previous frame in the same estimate (frame_placement.hpp).
+    const FrameRecord* previous = record.index > 0 ? &frames[record.index - 1] : nullptr;
+    if (previous && previous->tracked && previous->segment == record.segment)
+      T_world_prev = poseInCurrentEstimate(*previous, [this](int id) { return keyframePose(id); });
   }
 }
 

@@ -1,6 +1,7 @@
 // placeByReference (frame_placement.hpp): a frame tracked against a keyframe keeps its pose
 // relative to that keyframe when the window moves the keyframe; the epipolar search then finds
 // the true matches where the frame's world pose from before the move does not.
+// poseInCurrentEstimate: the constant-velocity guess from two frames in one estimate.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -99,6 +100,57 @@ TEST(FramePlacement, TheSearchAfterTheWindowMovedTheReferenceFindsTheTrueMatches
   // the curves tens of pixels away): few true matches (what the real-time mode searched with
   // before).
   EXPECT_LT(stale.match_within_half_pixel, truth.match_within_half_pixel / 4);
+}
+
+FrameRecord trackedFrame(int index, bool is_keyframe, int reference, const SE3d& T_frame_ref) {
+  FrameRecord f;
+  f.index = index;
+  f.tracked = true;
+  f.is_keyframe = is_keyframe;
+  f.reference_keyframe = reference;
+  f.T_frame_ref = T_frame_ref;
+  return f;
+}
+
+TEST(PoseInCurrentEstimate, AKeyframeIsTakenAtItsOwnPoseAnotherFrameByItsReference) {
+  const SE3d T_world_3 = test::moveInCamera(SE3d(), {0.2, 0.1, -0.3}, {3.0, 1.0, -2.0});
+  const SE3d T_world_4 = test::moveInCamera(T_world_3, {0.05, 0.0, -0.04}, {0.5, 6.0, 0.2});
+  auto keyframe_pose = [&](int id) { return id == 3 ? T_world_3 : T_world_4; };
+  // The keyframe's tracked T_frame_ref (against keyframe 3) is not used: the window's pose is.
+  const SE3d tracked = test::moveInCamera(SE3d(), {0.01, 0.0, 0.02}, {0.1, 0.0, 0.0});
+  EXPECT_EQ(poseInCurrentEstimate(trackedFrame(4, true, 3, tracked), keyframe_pose).matrix(),
+            T_world_4.matrix());
+  EXPECT_EQ(poseInCurrentEstimate(trackedFrame(5, false, 4, tracked), keyframe_pose).matrix(),
+            placeByReference(T_world_4, tracked).matrix());
+}
+
+// The camera moves at constant velocity through keyframes P and L. P's estimate was off by a
+// centimetre and 0.3° until L's solve corrected it (here to the truth), as solves do in a fast
+// turn. The guess for the next frame is L · (L⁻¹ P)⁻¹: with P taken in the solve's estimate it
+// is the true next pose; with P from before the solve (what the odometry used) it is off by the
+// correction.
+TEST(PoseInCurrentEstimate, TheConstantVelocityGuessAfterASolveThatMovedThePreviousKeyframe) {
+  const SE3d step = test::moveInCamera(SE3d(), {0.03, -0.01, -0.05}, {0.5, 6.5, 0.3});
+  const SE3d T_world_P = test::moveInCamera(SE3d(), {1.0, 0.2, 0.5}, {10.0, 40.0, -5.0});
+  const SE3d T_world_L = T_world_P * step, T_world_next = T_world_L * step;
+  const SE3d T_world_P_before = test::moveInCamera(T_world_P, {0.01, 0.0, 0.0}, {0.0, 0.3, 0.0});
+  const FrameRecord P = trackedFrame(7, true, 6, SE3d());
+  auto after_solve = [&](int id) { return id == 7 ? T_world_P : T_world_L; };
+
+  auto guess = [&](const SE3d& T_world_prev) {
+    const SE3d velocity = T_world_L.inverse() * T_world_prev;  // T_last_prev, as trackFrame
+    return T_world_L * velocity.inverse();
+  };
+  const SE3d consistent = guess(poseInCurrentEstimate(P, after_solve));
+  const SE3d stale = guess(T_world_P_before);
+  const SE3d e_consistent = consistent.inverse() * T_world_next;
+  const SE3d e_stale = stale.inverse() * T_world_next;
+  EXPECT_LT(e_consistent.translation().norm(), 1e-12);
+  EXPECT_LT(so3Log(e_consistent.rotation()).norm(), 1e-12);
+  // The stale guess is off by the correction Δ seen from one step later, step⁻¹ Δ step: the
+  // same 0.3°, and 1 cm up to (R_Δ − I) t_step, under 2 sin(0.15°) · 6 cm ≈ 0.3 mm.
+  EXPECT_NEAR(e_stale.translation().norm(), 0.01, 0.35e-3);
+  EXPECT_NEAR(so3Log(e_stale.rotation()).norm() * 180.0 / M_PI, 0.3, 1e-6);
 }
 
 }  // namespace
