@@ -43,6 +43,8 @@ Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
   if (options.content_margin_px < 0)
     options.content_margin_px = (1 << options.pyramid_levels) + 3;
   mask = erodeContent(mask, options.content_margin_px);
+  content_area = static_cast<double>(std::count_if(
+      mask.data(), mask.data() + mask.size(), [](std::uint8_t m) { return m != 0; }));
   if (options.epipolar.max_search_px <= 0)
     options.epipolar.max_search_px = 0.027 * (camera.width() + camera.height());
   // One camera encoding for residuals and selection (`selection.camera_encoding` reads it).

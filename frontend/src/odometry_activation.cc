@@ -29,8 +29,6 @@ void Odometry::Impl::activatePoints(int newest_id, const std::vector<int>& leavi
   };
   const WindowKeyframe& newest = window->keyframe(newest_id);
   const SE3d T_newest_world = newest.T_world_cam().inverse();
-  const double content_area = static_cast<double>(std::count_if(
-      mask.data(), mask.data() + mask.size(), [](std::uint8_t m) { return m != 0; }));
   ActivationGrid grid(camera.width(), camera.height(), content_area, options.num_points,
                       activation_density.update(window->numPoints(), options.num_points));
   for (const auto& [pid, point] : window->points()) {

@@ -42,6 +42,9 @@ struct Odometry::Impl {
   // The content's bounding box (content_mask.hpp, contentExtent): the image size the
   // keyframe decision's flow is relative to.
   ContentExtent content_extent;
+  // The (eroded) mask's pixels with content: the area activation's grid spreads num_points
+  // over (activation_grid.hpp). The mask is fixed once built, so it is counted once.
+  double content_area = 0.0;
 
   std::unique_ptr<SlidingWindow> window;
   // The compute threads (OdometryOptions::compute_threads): data-parallel steps whose results
