@@ -159,7 +159,8 @@ const std::deque<FrameRecord>& Odometry::frames() const {
 SE3d Odometry::framePose(const FrameRecord& frame) const {
   impl_->drainMapping();
   if (!frame.tracked) throw Error("Odometry::framePose: frame " + std::to_string(frame.index) + " has no pose");
-  return impl_->keyframePose(frame.reference_keyframe) * frame.T_frame_ref.inverse();
+  // Every frame, keyframes too, through its tracked pose (frames.txt).
+  return placeByReference(impl_->keyframePose(frame.reference_keyframe), frame.T_frame_ref);
 }
 
 std::vector<KeyframeRecord> Odometry::keyframes() const {
