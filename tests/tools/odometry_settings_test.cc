@@ -21,6 +21,30 @@ TEST(OdometrySettings, AssignmentsReachTheirOptions) {
   EXPECT_DOUBLE_EQ(o.keyframe_decision.global_weight, 1.5);
 }
 
+// The one list setting, the tracker's iterations per pyramid level (finest first): written
+// with commas, or in brackets as summary.json prints it; empty, partial or non-positive
+// lists are refused and leave the option as it was.
+TEST(OdometrySettings, AListSettingTakesCommasOrBracketsAndRefusesBadEntries) {
+  OdometryOptions o;
+  applyOdometrySettingAssignment(o, "tracker.max_iterations=3, 4,5");
+  EXPECT_EQ(o.tracker.max_iterations, (std::vector<int>{3, 4, 5}));
+  applyOdometrySetting(o, "tracker.max_iterations", "[7]");
+  EXPECT_EQ(o.tracker.max_iterations, (std::vector<int>{7}));
+  for (const char* bad : {"", "[]", "3,,4", "3,4,", "3;4", "[3,4", "3.5,4", "0,4", "-1"}) {
+    EXPECT_THROW(applyOdometrySetting(o, "tracker.max_iterations", bad), Error) << bad;
+  }
+  try {
+    applyOdometrySetting(o, "tracker.max_iterations", "2,0");
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("at least 1"), std::string::npos) << e.what();
+  }
+  // A value that does not parse leaves the option untouched.
+  OdometryOptions fresh;
+  EXPECT_THROW(applyOdometrySetting(fresh, "tracker.max_iterations", "x"), Error);
+  EXPECT_EQ(fresh.tracker.max_iterations, OdometryOptions().tracker.max_iterations);
+}
+
 TEST(OdometrySettings, JsonListsEveryNameWithItsValue) {
   OdometryOptions o;
   o.epipolar.min_quality = 4.25;
@@ -70,6 +94,20 @@ TEST(OdometrySettings, ConfigFileTakesNestedAndDottedNamesAndNamesTheLineOfAnErr
     EXPECT_NE(message.find("window.outlier_energy"), std::string::npos) << message;
   }
   EXPECT_THROW(applyOdometryConfigFile(o, dir.file("missing.yaml")), Error);
+
+  // A list setting as a YAML sequence, and a sequence where a single value belongs.
+  const std::string list = dir.file("list.yaml");
+  std::ofstream(list) << "tracker:\n  max_iterations: [4, 5, 6]\n";
+  applyOdometryConfigFile(o, list);
+  EXPECT_EQ(o.tracker.max_iterations, (std::vector<int>{4, 5, 6}));
+  const std::string not_list = dir.file("not_list.yaml");
+  std::ofstream(not_list) << "tracker:\n  huber_threshold: [4, 5]\n";
+  try {
+    applyOdometryConfigFile(o, not_list);
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not_list.yaml:2"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

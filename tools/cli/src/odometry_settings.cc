@@ -1,5 +1,6 @@
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <omnidso/cli/odometry_settings.hpp>
@@ -10,7 +11,9 @@
 namespace omnidso::cli {
 namespace {
 
-using SettingTarget = std::variant<int*, double*, bool*, std::uint64_t*>;
+// std::vector<int>: a list, one entry per pyramid level (finest first), written "6,8,10" or
+// "[6,8,10]" (as summary.json prints it) or as a YAML sequence.
+using SettingTarget = std::variant<int*, double*, bool*, std::uint64_t*, std::vector<int>*>;
 
 struct Setting {
   const char* name;
@@ -61,6 +64,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"window.affine_prior_weight_a", &o.window.affine_prior_weight_a},
       {"window.affine_prior_weight_b", &o.window.affine_prior_weight_b},
       {"window.gradient_weight_c", &o.window.gradient_weight_c},
+      {"tracker.max_iterations", &o.tracker.max_iterations},
       {"tracker.huber_threshold", &o.tracker.huber_threshold},
       {"tracker.function_tolerance", &o.tracker.function_tolerance},
       {"tracker.early_reject_factor", &o.tracker.early_reject_factor},
@@ -129,11 +133,35 @@ bool parseWhole(const std::string& text, T* out) {
   return true;
 }
 
+// A list of integers separated by commas, optionally in brackets; not empty, nothing else.
+bool parseIntList(std::string text, std::vector<int>* out) {
+  const size_t first = text.find_first_not_of(" \t");
+  const size_t last = text.find_last_not_of(" \t");
+  if (first == std::string::npos) return false;
+  text = text.substr(first, last - first + 1);
+  if (text.front() == '[' || text.back() == ']') {
+    if (text.size() < 2 || text.front() != '[' || text.back() != ']') return false;
+    text = text.substr(1, text.size() - 2);
+  }
+  std::vector<int> values;
+  std::istringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    int v = 0;
+    if (!parseWhole(item, &v)) return false;
+    values.push_back(v);
+  }
+  if (values.empty() || (!text.empty() && text.back() == ',')) return false;
+  *out = std::move(values);
+  return true;
+}
+
 void assign(const Setting& s, const std::string& value) {
   const bool ok = std::visit(
       [&](auto* target) {
         using T = std::remove_pointer_t<decltype(target)>;
-        if constexpr (std::is_same_v<T, bool>) {
+        if constexpr (std::is_same_v<T, std::vector<int>>) {
+          return parseIntList(value, target);
+        } else if constexpr (std::is_same_v<T, bool>) {
           if (value == "true" || value == "1") return *target = true, true;
           if (value == "false" || value == "0") return *target = false, true;
           return false;
@@ -161,7 +189,9 @@ void checkRange(const Setting& s) {
   const bool ok = std::visit(
       [&](auto* target) {
         using T = std::remove_pointer_t<decltype(target)>;
-        if constexpr (std::is_same_v<T, bool> || std::is_unsigned_v<T>) {
+        if constexpr (std::is_same_v<T, std::vector<int>>) {
+          return std::all_of(target->begin(), target->end(), [](int v) { return v >= 1; });
+        } else if constexpr (std::is_same_v<T, bool> || std::is_unsigned_v<T>) {
           return true;
         } else {
           return static_cast<double>(*target) >= lowest;
@@ -169,6 +199,8 @@ void checkRange(const Setting& s) {
       },
       s.target);
   if (!ok) {
+    if (std::holds_alternative<std::vector<int>*>(s.target))
+      throw Error(std::string("setting ") + s.name + ": every entry must be at least 1");
     throw Error(std::string("setting ") + s.name +
                 (lowest < 0 ? ": must be at least -1 (-1: automatic)"
                             : ": must not be negative" +
@@ -196,8 +228,21 @@ void applyYamlNode(OdometryOptions& options, const YAML::Node& node, const std::
       } catch (const Error& e) {
         throw fileError(path, line, e.what());
       }
+    } else if (entry.second.IsSequence()) {
+      // A list setting (tracker.max_iterations: [6, 8, 10]); as "6,8,10" to the one parser.
+      std::string joined;
+      for (const auto& item : entry.second) {
+        if (!item.IsScalar())
+          throw fileError(path, line, "setting " + name + ": a list must hold plain values");
+        joined += (joined.empty() ? "" : ",") + item.Scalar();
+      }
+      try {
+        applyOdometrySetting(options, name, "[" + joined + "]");
+      } catch (const Error& e) {
+        throw fileError(path, line, e.what());
+      }
     } else {
-      throw fileError(path, line, "setting " + name + " must be a single value");
+      throw fileError(path, line, "setting " + name + " must be a single value or a list");
     }
   }
 }
