@@ -16,27 +16,17 @@
 #include <omnidso/core/image_io.hpp>
 
 #include "core/temp_dir.hpp"
+#include "support/error_message.hpp"
 
 namespace omnidso {
 namespace {
 
 namespace fs = std::filesystem;
+using test::errorMessage;
 
 void writeText(const fs::path& path, const std::string& text) {
   fs::create_directories(path.parent_path());
   std::ofstream(path, std::ios::binary) << text;
-}
-
-// The message of the Error that FN throws; fails the test when it throws anything else.
-template <typename Fn>
-std::string errorMessage(Fn&& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no omnidso::Error";
-  return "";
 }
 
 // libFuzzer's crash-e072ad37: a 19-digit timestamp beyond int64 made std::stoll throw
