@@ -27,7 +27,7 @@ TEST(OdometrySettings, AssignmentsReachTheirOptions) {
 
 // The one list setting, the tracker's iterations per pyramid level (finest first): written
 // with commas, or in brackets as summary.json prints it; empty, partial or non-positive
-// lists are refused and leave the option as it was.
+// lists are refused.
 TEST(OdometrySettings, AListSettingTakesCommasOrBracketsAndRefusesBadEntries) {
   OdometryOptions o;
   applyOdometrySettingAssignment(o, "tracker.max_iterations=3, 4,5");

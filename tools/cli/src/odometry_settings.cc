@@ -11,8 +11,8 @@
 namespace omnidso::cli {
 namespace {
 
-// std::vector<int>: a list, one entry per pyramid level (finest first), written "6,8,10" or
-// "[6,8,10]" (as summary.json prints it) or as a YAML sequence.
+// std::vector<int>: a list of integers (tracker.max_iterations, one entry per pyramid level),
+// written "6,8,10" or "[6,8,10]" (as summary.json prints it) or as a YAML sequence.
 using SettingTarget = std::variant<int*, double*, bool*, std::uint64_t*, std::vector<int>*>;
 
 struct Setting {
