@@ -150,7 +150,7 @@ bool parseIntList(std::string text, std::vector<int>* out) {
     if (!parseWhole(item, &v)) return false;
     values.push_back(v);
   }
-  if (values.empty() || (!text.empty() && text.back() == ',')) return false;
+  if (values.empty() || text.back() == ',') return false;  // getline drops a trailing empty item
   *out = std::move(values);
   return true;
 }
