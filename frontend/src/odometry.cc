@@ -62,6 +62,7 @@ Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
                 std::to_string(options.epipolar.curve_offset_px) + ")");
   // The window is made at initialisation: its settings are checked here, before any frame.
   checkOutlierThresholdOptions(options.window.outlier_threshold);
+  validate(options.reference_depths);
   options.window.num_threads = std::max(1, options.window.num_threads);
   if (options.compute_threads < 0)
     throw Error("Odometry: compute_threads is " + std::to_string(options.compute_threads) +

@@ -10,6 +10,7 @@
 #include <omnidso/core/timing.hpp>
 #include <omnidso/frontend/affine_gauge.hpp>
 #include <omnidso/frontend/frame_placement.hpp>
+#include <omnidso/frontend/reference_depth_consistency.hpp>
 
 #include "odometry_impl.hpp"
 
@@ -87,6 +88,7 @@ void Odometry::Impl::setTrackingReference(int id) {
     if (!camera.project(x, u)) continue;
     refs.push_back({u, 1.0 / x.norm()});
   }
+  refs = keepConsistentDepths(refs, options.reference_depths);
   auto tracker = std::make_shared<CoarseTracker>(camera, options.tracker);
   tracker->setReference(kf.pyramid, kf.exposure, Eigen::Vector2d(kf.affine[0], kf.affine[1]), refs);
   std::lock_guard<std::mutex> lock(reference_mutex);

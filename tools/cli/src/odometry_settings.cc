@@ -78,6 +78,8 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"tracker.finest_level_second_start", &o.tracker.finest_level_second_start},
       {"tracker.second_start_gain", &o.tracker.second_start_gain},
       {"tracker.second_start_min_shift_px", &o.tracker.second_start_min_shift_px},
+      {"reference_depths.neighbours", &o.reference_depths.neighbours},
+      {"reference_depths.max_log_deviation", &o.reference_depths.max_log_deviation},
       {"epipolar.max_search_px", &o.epipolar.max_search_px},
       {"epipolar.converged_px", &o.epipolar.converged_px},
       {"epipolar.min_quality", &o.epipolar.min_quality},

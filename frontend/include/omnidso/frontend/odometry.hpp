@@ -24,6 +24,7 @@
 #include <omnidso/frontend/initializer.hpp>
 #include <omnidso/frontend/keyframe_decision.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
+#include <omnidso/frontend/reference_depth_consistency.hpp>
 #include <deque>
 #include <functional>
 #include <string>
@@ -73,6 +74,9 @@ struct OdometryOptions {
   std::uint64_t seed = 0;
   WindowOptions window;
   CoarseTrackerOptions tracker;
+  // With neighbours > 0 the tracking reference keeps only the points whose inverse distance
+  // agrees with their image neighbours' (reference_depth_consistency.hpp; off by default).
+  ReferenceDepthConsistencyOptions reference_depths;
   EpipolarSearchOptions epipolar;        // max_search_px 0 → 0.027 (w + h)
   KeyframeDecisionOptions keyframe_decision;
   KeyframeMarginalizationOptions marginalization;
