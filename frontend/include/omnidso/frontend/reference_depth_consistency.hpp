@@ -18,7 +18,8 @@
 // reference points lay more than 10 % off the scene (5 % more than 30 %), wrong from their
 // activation on, half of them at a depth edge; their information, residual count or age
 // hardly sets them apart. The scene's own inverse distances in the reference, or dropping
-// only the points more than 10 % off, bring H12p's six-seed median from 0.098 to 0.060 %.
+// only the points more than 10 % off, bring H12p's six-seed median from 0.098 to 0.060 /
+// 0.061 %.
 // Neighbours on one surface agree to a few percent: at K = 8, τ = 0.1 this check drops 10 %
 // of H12p's reference points, 64 % of them more than 10 % off the scene, and H12p's median
 // falls to 0.066 %.
@@ -27,7 +28,8 @@
 // worse (mean of five-seed medians 0.077 → 0.087 %; D1's crop in four seeds of five), the full
 // image's within its seeds' spread (0.0189 → 0.0200 %). Judging a point only where its
 // neighbours agree among themselves (so that depth edges keep their points) helped H12p less
-// (0.082 %) and D1's crop no better. Settings `reference_depths.neighbours` (K) and
+// (0.082 %) and D1's crop no better; D1's crop gains nothing even from the scene's own inverse
+// distances (its drift is made in the window's solves). Settings `reference_depths.neighbours` (K) and
 // `reference_depths.max_log_deviation` (τ), for ablations on narrow views.
 
 #include <omnidso/frontend/coarse_tracker.hpp>
