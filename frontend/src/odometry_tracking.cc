@@ -7,6 +7,7 @@
 // reference_mutex (setTrackingReference), tracking adopts it at its next frame
 // (adoptPublishedReference).
 #include <cmath>
+#include <utility>
 #include <omnidso/core/timing.hpp>
 #include <omnidso/frontend/affine_gauge.hpp>
 #include <omnidso/frontend/frame_placement.hpp>
@@ -88,7 +89,7 @@ void Odometry::Impl::setTrackingReference(int id) {
     if (!camera.project(x, u)) continue;
     refs.push_back({u, 1.0 / x.norm()});
   }
-  refs = keepConsistentDepths(refs, options.reference_depths);
+  refs = keepConsistentDepths(std::move(refs), options.reference_depths);
   auto tracker = std::make_shared<CoarseTracker>(camera, options.tracker);
   tracker->setReference(kf.pyramid, kf.exposure, Eigen::Vector2d(kf.affine[0], kf.affine[1]), refs);
   std::lock_guard<std::mutex> lock(reference_mutex);

@@ -98,8 +98,7 @@ void validate(const ReferenceDepthConsistencyOptions& options) {
 }
 
 std::vector<TrackingReferencePoint> keepConsistentDepths(
-    const std::vector<TrackingReferencePoint>& points,
-    const ReferenceDepthConsistencyOptions& options) {
+    std::vector<TrackingReferencePoint> points, const ReferenceDepthConsistencyOptions& options) {
   validate(options);
   const int k = options.neighbours;
   if (k == 0 || points.size() < static_cast<size_t>(k) + 1) return points;

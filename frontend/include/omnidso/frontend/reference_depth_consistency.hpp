@@ -45,9 +45,9 @@ struct ReferenceDepthConsistencyOptions {
 // Throws omnidso::Error naming the setting unless K ≥ 0 and τ > 0 (finite).
 void validate(const ReferenceDepthConsistencyOptions& options);
 
-// The points that pass the check, in their given order. Every inverse distance must be > 0.
+// The points that pass the check, in their given order (`points` itself, moved, when the
+// check is off). Every inverse distance must be > 0.
 std::vector<TrackingReferencePoint> keepConsistentDepths(
-    const std::vector<TrackingReferencePoint>& points,
-    const ReferenceDepthConsistencyOptions& options);
+    std::vector<TrackingReferencePoint> points, const ReferenceDepthConsistencyOptions& options);
 
 }  // namespace omnidso
