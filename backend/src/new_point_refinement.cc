@@ -39,7 +39,7 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
   for (const auto& kf : keyframes_) {
     if (kf->id == host_id) continue;
     targets.push_back({&kf->pyramid->level(0), kf->pyramid->content(0), kf->pose.data(),
-                       kf->affine.data(), kf->exposure});
+                       kf->affine.data(), kf->exposure, options_.image_gradient});
   }
   const std::unique_ptr<InverseDistanceResiduals> residuals = factory_->makeInverseDistanceResiduals(
       intrinsics_,

@@ -25,7 +25,7 @@ class TypedInverseDistanceResiduals final : public InverseDistanceResiduals {
       : camera_(levelIntrinsics(intrinsics)), host_(host) {
     unprojectHostPattern(camera_, host_, false, &bearings_);
     for (const InverseDistanceTarget& t : targets) {
-      samplers_.emplace_back(*t.image, WindowObservation{}.interpolation, t.content);
+      samplers_.emplace_back(*t.image, WindowObservation{}.interpolation, t.content, t.gradient);
       pairs_.push_back(makePhotometricPair(host_pose, t.pose, host_affine, t.affine,
                                            host_exposure, t.exposure));
     }

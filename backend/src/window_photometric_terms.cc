@@ -80,7 +80,7 @@ class PhotometricTermsOf final : public WindowPhotometricTerms {
     std::vector<ImageSampler> samplers;
     samplers.reserve(num_frames);
     for (const WindowFrame& f : problem.frames)
-      samplers.emplace_back(*f.image, problem.interpolation, f.content);
+      samplers.emplace_back(*f.image, problem.interpolation, f.content, problem.gradient);
     pairs_.resize(static_cast<size_t>(num_frames) * num_frames);
     adjoints_.resize(pairs_.size());
     for (int h = 0; h < num_frames; ++h)

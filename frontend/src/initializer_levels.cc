@@ -92,6 +92,7 @@ Initializer::Impl::LevelProblem Initializer::Impl::buildLevel(int level, const I
                                                  options.pattern_spread);
     obs.target_image = &frame.level(level);
     obs.target_content = frame.content(level);
+    obs.gradient = options.image_gradient;
     obs.host_exposure = first_exposure;
     obs.target_exposure = exposure;
     obs.level = level;
@@ -220,7 +221,7 @@ std::unique_ptr<InitializerLevelPatchesBase> Initializer::Impl::makePatches(Mode
   scaleIntrinsicsToLevel(params, level);
   return std::make_unique<InitializerLevelPatches<M>>(M<double>(params), first_exposure,
                                                       host_pose.data(), host_affine.data(),
-                                                      pixels.size());
+                                                      pixels.size(), options.image_gradient);
 }
 
 InitializerLevelPatchesBase& Initializer::Impl::levelPatches(int level) {

@@ -29,7 +29,9 @@ class LevelResiduals final : public TrackerResiduals {
         sampler_(image,
                  observations.empty() ? ImageInterpolation::kBilinear
                                       : observations.front().interpolation,
-                 content) {
+                 content,
+                 observations.empty() ? ImageGradient::kInterpolant
+                                      : observations.front().gradient) {
     for (TrackingObservation<1>& obs : observations_) obs.target_exposure = frame_exposure;
   }
 

@@ -3,6 +3,7 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -158,6 +159,66 @@ TEST(Interpolation, ContentMaskRejectsCellsTouchingNonContent) {
       EXPECT_EQ(masked, expected ? plain : -7.0);
       EXPECT_EQ(masked_t, expected ? plain : -7.0);
     }
+}
+
+// I(u, v) = a + b·u + c·v + q·(u² + v²): central differences are exact for a quadratic at
+// every pixel, and their bilinear blend, linear in the position, is then the exact gradient
+// b + 2qu everywhere inside (the border columns and rows, one-sided, are excluded). The
+// interpolant's own derivative is the forward difference across the cell, b + q(2·u0 + 1):
+// off by q(2·fu − 1), up to a quarter pixel's worth of curvature either way.
+TEST(Interpolation, CentralGradientIsExactOnQuadraticsWhereTheInterpolantsIsNot) {
+  const double a = 3.0, b = 0.5, c = -0.25, q = 0.02;
+  ImageF img(24, 20);
+  for (int v = 0; v < 20; ++v)
+    for (int u = 0; u < 24; ++u) img(u, v) = static_cast<float>(a + b * u + c * v + q * (u * u + v * v));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u_dist(1.0, 22.0), v_dist(1.0, 18.0);
+  double worst_interpolant = 0.0;
+  for (int i = 0; i < 300; ++i) {
+    const double u = u_dist(rng), v = v_dist(rng);
+    double value = 0, d_du = 0, d_dv = 0, plain = 0, i_du = 0, i_dv = 0;
+    ASSERT_TRUE(sampleBilinearWithCentralGradient(img, u, v, &value, &d_du, &d_dv));
+    ASSERT_TRUE(sampleBilinearWithGradient(img, u, v, &plain, &i_du, &i_dv));
+    EXPECT_EQ(value, plain);  // the same bilinear value
+    // |I| < 40: float pixels carry < 2.4e-6 each; a half-difference blend stays below 1e-5.
+    EXPECT_NEAR(d_du, b + 2.0 * q * u, 1e-5);
+    EXPECT_NEAR(d_dv, c + 2.0 * q * v, 1e-5);
+    worst_interpolant = std::max(worst_interpolant, std::abs(i_du - (b + 2.0 * q * u)));
+  }
+  EXPECT_GT(worst_interpolant, 0.8 * q);  // the forward difference's offset, up to q
+}
+
+// The blend equals computeGradients' central-difference images blended bilinearly, borders
+// (one-sided) included; where a neighbour has no content the difference turns one-sided
+// away from it, so a fisheye's black surround never enters the gradient.
+TEST(Interpolation, CentralGradientBlendsTheCentralDifferenceImagesAndStaysInsideTheContent) {
+  const ImageF img = randomImage(9, 7, 5);
+  ImageF gx(9, 7), gy(9, 7);
+  for (int v = 0; v < 7; ++v)
+    for (int u = 0; u < 9; ++u) {
+      const int l = std::max(u - 1, 0), r = std::min(u + 1, 8), t = std::max(v - 1, 0),
+                bo = std::min(v + 1, 6);
+      gx(u, v) = static_cast<float>((double(img(r, v)) - img(l, v)) / (r - l));
+      gy(u, v) = static_cast<float>((double(img(u, bo)) - img(u, t)) / (bo - t));
+    }
+  for (double v = 0.0; v <= 6.0; v += 0.5)
+    for (double u = 0.0; u <= 8.0; u += 0.5) {
+      double d_du = 0, d_dv = 0, ex = 0, ey = 0;
+      ASSERT_TRUE(sampleBilinearWithCentralGradient(img, u, v, nullptr, &d_du, &d_dv));
+      ASSERT_TRUE(sampleBilinear(gx, u, v, &ex));
+      ASSERT_TRUE(sampleBilinear(gy, u, v, &ey));
+      EXPECT_NEAR(d_du, ex, 1e-4) << u << "," << v;  // gx, gy rounded to float
+      EXPECT_NEAR(d_dv, ey, 1e-4) << u << "," << v;
+    }
+  // Column 2 without content: at pixel (3, 3) the u-difference is I(4) − I(3), not
+  // (I(4) − I(2)) / 2; the v-difference there is untouched.
+  Mask content(9, 7, 1);
+  for (int v = 0; v < 7; ++v) content(2, v) = 0;
+  double d_du = 0, d_dv = 0;
+  ASSERT_TRUE(sampleBilinearWithCentralGradient(img, 3.0, 3.0, nullptr, &d_du, &d_dv, &content));
+  EXPECT_NEAR(d_du, double(img(4, 3)) - img(3, 3), 1e-9);
+  EXPECT_NEAR(d_dv, (double(img(3, 4)) - img(3, 2)) / 2.0, 1e-9);
+  EXPECT_FALSE(sampleBilinearWithCentralGradient(img, 2.5, 3.0, nullptr, &d_du, &d_dv, &content));
 }
 
 }  // namespace

@@ -29,6 +29,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"reject_targets_outside_content", &o.reject_targets_outside_content},
       {"noise_in_encoding", &o.noise_in_encoding},
       {"pattern_spread", &o.pattern_spread},
+      {"central_difference_gradients", &o.central_difference_gradients},
       {"max_activation_interval_px", &o.max_activation_interval_px},
       {"min_activation_quality", &o.min_activation_quality},
       {"activation_density.adaptive", &o.activation_density.adaptive},

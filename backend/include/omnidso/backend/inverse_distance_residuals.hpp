@@ -24,6 +24,7 @@ struct InverseDistanceTarget {
   const double* pose = nullptr;   // T_world_cam [qx qy qz qw tx ty tz]
   const double* affine = nullptr;  // [a b]
   double exposure = 1.0;
+  ImageGradient gradient = ImageGradient::kInterpolant;  // in ∂r/∂d (image_sampler.hpp)
 };
 
 class InverseDistanceResiduals {

@@ -159,6 +159,9 @@ struct WindowOptions {
   double affine_prior_weight_b = 1e6;
   double gradient_weight_c = kDsoGradientWeightC;
   int pattern_spread = 1;  // OdometryOptions::pattern_spread
+  // The image gradient of the residuals' Jacobians (photometric_residual.hpp);
+  // OdometryOptions::central_difference_gradients.
+  ImageGradient image_gradient = ImageGradient::kInterpolant;
   // Capacity of the inverse-distance storage (parameter_slots.hpp): the most points the
   // window can hold at once; addPoint throws beyond it.
   int max_points = 1 << 16;

@@ -81,6 +81,7 @@ struct WindowProblem {
   const ceres::Manifold* pose_manifold = nullptr;
   const ceres::LossFunction* photometric_loss = nullptr;
   ImageInterpolation interpolation = ImageInterpolation::kBilinear;  // of the target images
+  ImageGradient gradient = ImageGradient::kInterpolant;  // in the Jacobians (image_sampler.hpp)
   double out_of_bounds_energy = 0.0;  // ‖r‖² of an invalid residual (out_of_bounds_penalty.hpp)
   // The model's residual kernel. A window keeps one for its lifetime (its buffers stay
   // allocated from solve to solve); what it caches per problem is keyed on `id`.

@@ -112,6 +112,59 @@ inline bool sampleBilinearWithGradient(const ImageF& img, double u, double v, do
   return true;
 }
 
+// The bilinear value with the image gradient taken as the bilinear blend of central
+// differences at the cell's four pixels,
+//   g_u(x, y) = (I(x+1, y) − I(x−1, y)) / 2   (one-sided at the image's and the content's
+//                                              borders),
+//   ∂I/∂u ≈ (1−fv)·((1−fu)·g_u00 + fu·g_u10) + fv·((1−fu)·g_u01 + fu·g_u11),   likewise ∂I/∂v,
+// the gradient the original DSO gives its Jacobians. Why not the interpolant's own derivative
+// (sampleBilinearWithGradient): that is a forward difference across the cell, constant within
+// it and jumping at every pixel edge, half a pixel off the point it is used at; Gauss–Newton
+// with it settles where the bilinear cost has its kinks, at the pixel grid. The blend of
+// central differences is continuous and exact for images quadratic in u and v. It is not the
+// derivative of the value returned, so residuals using it fail a numeric gradient check by
+// design (ImageGradient::kCentralDifferences, photometric_residual.hpp). In every solver of
+// the odometry (OdometryOptions::central_difference_gradients, off by default) it halved
+// H12p's keyframe ATE (the independent renderer's 120° pinhole) and the error of its activated
+// points' inverse distances against the scene's, but doubled D4's full-image ATE
+// (docs/performance.md, "The image gradient in the Jacobians").
+inline bool sampleBilinearWithCentralGradient(const ImageF& img, double u, double v,
+                                              double* value, double* d_du, double* d_dv,
+                                              const Mask* content = nullptr) {
+  BilinearCell c;
+  if (!bilinearCell(img.width(), img.height(), u, v, &c)) return false;
+  if (!cellIsContent(content, c)) return false;
+  const double fu = u - c.u0;
+  const double fv = v - c.v0;
+  if (value) {
+    *value = (1.0 - fv) * ((1.0 - fu) * img(c.u0, c.v0) + fu * img(c.u1, c.v0)) +
+             fv * ((1.0 - fu) * img(c.u0, c.v1) + fu * img(c.u1, c.v1));
+  }
+  const int w = img.width(), h = img.height();
+  // A neighbour outside the image or the content (a fisheye's black surround) is replaced by
+  // the centre pixel: a one-sided difference, so that the circle's edge never enters.
+  const auto inside = [content](int x, int y) { return content == nullptr || (*content)(x, y) != 0; };
+  const auto blend = [fu, fv, &c](auto&& g) {
+    return (1.0 - fv) * ((1.0 - fu) * g(c.u0, c.v0) + fu * g(c.u1, c.v0)) +
+           fv * ((1.0 - fu) * g(c.u0, c.v1) + fu * g(c.u1, c.v1));
+  };
+  if (d_du) {
+    *d_du = blend([&](int x, int y) {
+      const int a = x > 0 && inside(x - 1, y) ? x - 1 : x;
+      const int b = x < w - 1 && inside(x + 1, y) ? x + 1 : x;
+      return b > a ? (img(b, y) - img(a, y)) / static_cast<double>(b - a) : 0.0;
+    });
+  }
+  if (d_dv) {
+    *d_dv = blend([&](int x, int y) {
+      const int a = y > 0 && inside(x, y - 1) ? y - 1 : y;
+      const int b = y < h - 1 && inside(x, y + 1) ? y + 1 : y;
+      return b > a ? (img(x, b) - img(x, a)) / static_cast<double>(b - a) : 0.0;
+    });
+  }
+  return true;
+}
+
 // True iff (u, v) is inside the image and all 4 neighbours used by the bilinear lookup are
 // valid (non-zero) in the mask.
 inline bool isValidBilinear(const Mask& mask, double u, double v) {

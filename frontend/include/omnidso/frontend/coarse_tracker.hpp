@@ -41,6 +41,7 @@
 #include <omnidso/cameras/camera.hpp>
 #include <omnidso/core/pyramid.hpp>
 #include <omnidso/core/se3.hpp>
+#include <omnidso/residuals/photometric_residual.hpp>
 #include <vector>
 
 namespace omnidso {
@@ -61,6 +62,9 @@ struct CoarseTrackerOptions {
   // (docs/performance.md).
   double function_tolerance = 1e-3;
   double huber_threshold = 9.0;
+  // The image gradient of the Jacobians (photometric_residual.hpp);
+  // OdometryOptions::central_difference_gradients.
+  ImageGradient image_gradient = ImageGradient::kInterpolant;
   double early_reject_factor = 1.5;
   double good_enough_factor = 1.5;  // DSO's re-track threshold
   double min_valid_fraction = 0.3;

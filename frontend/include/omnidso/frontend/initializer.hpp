@@ -30,6 +30,7 @@
 #include <omnidso/cameras/camera.hpp>
 #include <omnidso/core/pyramid.hpp>
 #include <omnidso/core/se3.hpp>
+#include <omnidso/residuals/photometric_residual.hpp>
 #include <omnidso/core/task_pool.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
 #include <string>
@@ -39,6 +40,9 @@ namespace omnidso {
 
 struct InitializerOptions {
   int pattern_spread = 1;  // OdometryOptions::pattern_spread
+  // The image gradient of the Jacobians (photometric_residual.hpp);
+  // OdometryOptions::central_difference_gradients.
+  ImageGradient image_gradient = ImageGradient::kInterpolant;
   int num_levels = 5;
   int max_iterations_per_level = 8;
   double regularizer_weight = 50.0;    // λ after the snap, intensity² per (inverse distance)²

@@ -40,17 +40,19 @@ class InitializerLevelPatches final : public InitializerLevelPatchesBase {
   // `level_camera`: the model with the level's intrinsics; the host pose and affine blocks
   // (identity, zero) as the Ceres path passes them; room for `capacity` patches.
   InitializerLevelPatches(const M<double>& level_camera, double host_exposure,
-                          const double* host_pose, const double* host_affine, size_t capacity)
+                          const double* host_pose, const double* host_affine, size_t capacity,
+                          ImageGradient gradient = ImageGradient::kInterpolant)
       : camera_(level_camera),
         host_exposure_(host_exposure),
         host_pose_(host_pose),
-        host_affine_(host_affine) {
+        host_affine_(host_affine),
+        gradient_(gradient) {
     hosts_.reserve(capacity);
     bearings_.reserve(capacity);
   }
 
   void setFrame(const ImageF& image, const Mask* content, double frame_exposure) override {
-    sampler_.emplace(image, ImageInterpolation::kBilinear, content);
+    sampler_.emplace(image, ImageInterpolation::kBilinear, content, gradient_);
     image_ = &image;
     content_ = content;
     frame_exposure_ = frame_exposure;
@@ -72,7 +74,7 @@ class InitializerLevelPatches final : public InitializerLevelPatchesBase {
 
   std::unique_ptr<InitializerPatches> clone() const override {
     auto copy = std::make_unique<InitializerLevelPatches>(camera_, host_exposure_, host_pose_,
-                                                          host_affine_, 0);
+                                                          host_affine_, 0, gradient_);
     if (image_) copy->setFrame(*image_, content_, frame_exposure_);  // a sampler of its own
     copy->hosts_.assign(hosts_.begin(), hosts_.begin() + size_);
     copy->bearings_.assign(bearings_.begin(), bearings_.begin() + size_);
@@ -114,6 +116,7 @@ class InitializerLevelPatches final : public InitializerLevelPatchesBase {
   double host_exposure_, frame_exposure_ = 1.0;
   const double* host_pose_;
   const double* host_affine_;
+  ImageGradient gradient_;
   std::vector<HostPatch<kPatchSize>> hosts_;
   std::vector<HostBearings<kPatchSize, K>> bearings_;
   size_t size_ = 0;  // patches in use: the first size_ of hosts_ and bearings_

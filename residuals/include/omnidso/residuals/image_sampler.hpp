@@ -8,6 +8,9 @@
 // `content` (optional, image-sized): samples whose bilinear cell touches a pixel without
 // content are rejected like samples outside the image (content_mask.hpp says why; for
 // bicubic the central cell of the 4×4 footprint is checked).
+// sampleWithGradient's gradient on the bilinear path: the interpolant's derivative or
+// central differences blended bilinearly (ImageGradient, photometric_residual.hpp); Jets
+// (sample) always differentiate the interpolant.
 // The sampler keeps pointers to the image and the mask: both must outlive it.
 
 #include <ceres/cubic_interpolation.h>
@@ -23,8 +26,9 @@ namespace omnidso {
 class ImageSampler {
  public:
   ImageSampler(const ImageF& image, ImageInterpolation interpolation,
-               const Mask* content = nullptr)
-      : image_(&image), content_(content), interpolation_(interpolation) {
+               const Mask* content = nullptr,
+               ImageGradient gradient = ImageGradient::kInterpolant)
+      : image_(&image), content_(content), interpolation_(interpolation), gradient_(gradient) {
     if (interpolation_ == ImageInterpolation::kBicubic) {
       grid_ = std::make_unique<Grid>(image.data(), 0, image.height(), 0, image.width());
       bicubic_ = std::make_unique<BiCubic>(*grid_);
@@ -45,7 +49,9 @@ class ImageSampler {
 
   bool sampleWithGradient(double u, double v, double* value, double* d_du, double* d_dv) const {
     if (interpolation_ == ImageInterpolation::kBilinear) {
-      return sampleBilinearWithGradient(*image_, u, v, value, d_du, d_dv, content_);
+      return gradient_ == ImageGradient::kCentralDifferences
+                 ? sampleBilinearWithCentralGradient(*image_, u, v, value, d_du, d_dv, content_)
+                 : sampleBilinearWithGradient(*image_, u, v, value, d_du, d_dv, content_);
     }
     return sampleBicubicWithGradient(u, v, value, d_du, d_dv);
   }
@@ -73,6 +79,7 @@ class ImageSampler {
   const ImageF* image_;
   const Mask* content_;
   ImageInterpolation interpolation_;
+  ImageGradient gradient_;
   std::unique_ptr<Grid> grid_;
   std::unique_ptr<BiCubic> bicubic_;
 };

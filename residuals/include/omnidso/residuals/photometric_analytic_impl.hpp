@@ -18,7 +18,7 @@ template <template <typename> class Camera, int N>
 PhotometricResidualAnalytic<Camera, N>::PhotometricResidualAnalytic(
     const PhotometricObservation<N>& observation)
     : observation_(observation), sampler_(*observation.target_image, observation.interpolation,
-               observation.target_content) {}
+               observation.target_content, observation.gradient) {}
 
 template <template <typename> class Camera, int N>
 bool PhotometricResidualAnalytic<Camera, N>::Evaluate(double const* const* parameters,

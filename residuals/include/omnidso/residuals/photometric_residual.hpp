@@ -49,6 +49,13 @@ enum class DifferentiationMode { kAutodiff, kAnalytic };
 // ceres::Grid2D; it needs a 4×4 footprint, so its valid region is one pixel smaller.
 enum class ImageInterpolation { kBilinear, kBicubic };
 
+// The image gradient in a hand-derived Jacobian, for bilinear sampling (bicubic always uses
+// its interpolant's derivative): kInterpolant, the exact derivative of the interpolated
+// value (core/interpolation.hpp), which numeric gradient checks and autodiff agree with;
+// kCentralDifferences, central differences blended bilinearly (DSO's; the odometry's
+// setting central_difference_gradients, sampleBilinearWithCentralGradient says why).
+enum class ImageGradient { kInterpolant, kCentralDifferences };
+
 enum class PhotometricStatus {
   kValid,
   kNegativeInverseDistance,  // d < 0
@@ -121,6 +128,7 @@ struct PhotometricObservation {
   // to this level (pyramid_scaling.hpp) and chains the scaling into the Jacobian.
   int level = 0;
   ImageInterpolation interpolation = ImageInterpolation::kBilinear;
+  ImageGradient gradient = ImageGradient::kInterpolant;
 };
 
 // ceres::HuberLoss(huber_threshold · √pattern_size), owned by the caller (see above).

@@ -34,6 +34,7 @@ struct TrackingObservation {
   double host_a = 0.0;                           // host affine, fixed while tracking
   double host_b = 0.0;
   ImageInterpolation interpolation = ImageInterpolation::kBilinear;
+  ImageGradient gradient = ImageGradient::kInterpolant;
 };
 
 // The bearings of the patch's pattern pixels through `level_camera`; nullopt if a pattern

@@ -35,7 +35,7 @@ TrackingResidualAnalytic<Camera, N>::TrackingResidualAnalytic(
     : camera_(level_camera),
       observation_(observation),
       sampler_(*observation.target_image, observation.interpolation,
-               observation.target_content) {}
+               observation.target_content, observation.gradient) {}
 
 template <template <typename> class Camera, int N>
 bool TrackingResidualAnalytic<Camera, N>::Evaluate(double const* const* parameters,
@@ -115,7 +115,7 @@ class TrackingResidualFunctor {
       : camera_(level_camera),
         observation_(observation),
         sampler_(*observation.target_image, observation.interpolation,
-               observation.target_content) {}
+               observation.target_content, observation.gradient) {}
 
   template <typename T>
   bool operator()(const T* relative_pose, const T* target_affine, T* residuals) const {
