@@ -39,7 +39,8 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
   for (const auto& kf : keyframes_) {
     if (kf->id == host_id) continue;
     targets.push_back({&kf->pyramid->level(0), kf->pyramid->content(0), kf->pose.data(),
-                       kf->affine.data(), kf->exposure, options_.image_gradient});
+                       kf->affine.data(), kf->exposure,
+                       imageGradient(options_.central_difference_gradients)});
   }
   const std::unique_ptr<InverseDistanceResiduals> residuals = factory_->makeInverseDistanceResiduals(
       intrinsics_,

@@ -65,7 +65,7 @@ std::optional<WindowObservation> SlidingWindow::observation(const WindowPoint& p
   }
   obs.target_image = &target.pyramid->level(level);
   obs.target_content = target.pyramid->content(level);
-  obs.gradient = options_.image_gradient;
+  obs.gradient = imageGradient(options_.central_difference_gradients);
   obs.host_exposure = host.exposure;
   obs.target_exposure = target.exposure;
   obs.level = level;

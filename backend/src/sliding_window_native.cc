@@ -48,7 +48,7 @@ WindowProblem SlidingWindow::nativePhotometricProblem(const std::vector<const Wi
   native.pose_manifold = pose_manifold_.get();
   native.photometric_loss = loss_.get();
   native.interpolation = WindowObservation{}.interpolation;
-  native.gradient = options_.image_gradient;
+  native.gradient = imageGradient(options_.central_difference_gradients);
   native.out_of_bounds_energy = options_.outlier_energy_per_pixel * kWindowPatternSize;
   if (!window_terms_) window_terms_ = factory_->makeWindowTerms();
   native.photometric = window_terms_;

@@ -182,7 +182,7 @@ struct CoarseTracker::Impl {
         auto obs = makeTrackingObservation<M, 1>(level_model, patch, d);
         if (!obs) continue;
         obs->host_exposure = exposure;
-        obs->gradient = options.image_gradient;
+        obs->gradient = imageGradient(options.central_difference_gradients);
         obs->host_a = affine.x();
         obs->host_b = options.affine_in_reference_gauge ? 0.0 : affine.y();
         observations[level].push_back(*obs);

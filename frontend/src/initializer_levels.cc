@@ -92,7 +92,7 @@ Initializer::Impl::LevelProblem Initializer::Impl::buildLevel(int level, const I
                                                  options.pattern_spread);
     obs.target_image = &frame.level(level);
     obs.target_content = frame.content(level);
-    obs.gradient = options.image_gradient;
+    obs.gradient = imageGradient(options.central_difference_gradients);
     obs.host_exposure = first_exposure;
     obs.target_exposure = exposure;
     obs.level = level;
@@ -221,7 +221,8 @@ std::unique_ptr<InitializerLevelPatchesBase> Initializer::Impl::makePatches(Mode
   scaleIntrinsicsToLevel(params, level);
   return std::make_unique<InitializerLevelPatches<M>>(M<double>(params), first_exposure,
                                                       host_pose.data(), host_affine.data(),
-                                                      pixels.size(), options.image_gradient);
+                                                      pixels.size(),
+                                                      imageGradient(options.central_difference_gradients));
 }
 
 InitializerLevelPatchesBase& Initializer::Impl::levelPatches(int level) {

@@ -55,13 +55,6 @@ Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
                 std::to_string(options.pattern_spread) + ")");
   options.window.pattern_spread = options.pattern_spread;
   options.initializer.pattern_spread = options.pattern_spread;
-  // One image gradient for every Jacobian.
-  const ImageGradient gradient = options.central_difference_gradients
-                                     ? ImageGradient::kCentralDifferences
-                                     : ImageGradient::kInterpolant;
-  options.window.image_gradient = gradient;
-  options.tracker.image_gradient = gradient;
-  options.initializer.image_gradient = gradient;
   // The search's interval half-width σ + e |c| / a (epipolar_search.hpp) must be positive.
   if (!(options.epipolar.match_sigma_px > 0.0) || !(options.epipolar.curve_offset_px >= 0.0))
     throw Error("Odometry: epipolar.match_sigma_px must be > 0 and epipolar.curve_offset_px >= 0 "

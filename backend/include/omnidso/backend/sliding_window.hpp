@@ -159,9 +159,12 @@ struct WindowOptions {
   double affine_prior_weight_b = 1e6;
   double gradient_weight_c = kDsoGradientWeightC;
   int pattern_spread = 1;  // OdometryOptions::pattern_spread
-  // The image gradient of the residuals' Jacobians (photometric_residual.hpp);
-  // OdometryOptions::central_difference_gradients.
-  ImageGradient image_gradient = ImageGradient::kInterpolant;
+  // The image gradient in the solve's and activation's Jacobians: false, the bilinear
+  // interpolant's derivative; true, central differences blended bilinearly (DSO's;
+  // core/interpolation.hpp, sampleBilinearWithCentralGradient). Off: true halves H12p's
+  // error (a 120° pinhole) but costs own preset C's full image 1.4× (docs/performance.md,
+  // "The image gradient in the Jacobians").
+  bool central_difference_gradients = false;
   // Capacity of the inverse-distance storage (parameter_slots.hpp): the most points the
   // window can hold at once; addPoint throws beyond it.
   int max_points = 1 << 16;

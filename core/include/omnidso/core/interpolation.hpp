@@ -117,16 +117,15 @@ inline bool sampleBilinearWithGradient(const ImageF& img, double u, double v, do
 //   g_u(x, y) = (I(x+1, y) − I(x−1, y)) / 2   (one-sided at the image's and the content's
 //                                              borders),
 //   ∂I/∂u ≈ (1−fv)·((1−fu)·g_u00 + fu·g_u10) + fv·((1−fu)·g_u01 + fu·g_u11),   likewise ∂I/∂v,
-// the gradient the original DSO gives its Jacobians. Why not the interpolant's own derivative
-// (sampleBilinearWithGradient): that is a forward difference across the cell, constant within
-// it and jumping at every pixel edge, half a pixel off the point it is used at; Gauss–Newton
-// with it settles where the bilinear cost has its kinks, at the pixel grid. The blend of
-// central differences is continuous and exact for images quadratic in u and v. It is not the
-// derivative of the value returned, so residuals using it fail a numeric gradient check by
-// design (ImageGradient::kCentralDifferences, photometric_residual.hpp). In every solver of
-// the odometry (OdometryOptions::central_difference_gradients, off by default) it halved
-// H12p's keyframe ATE (the independent renderer's 120° pinhole) and the error of its activated
-// points' inverse distances against the scene's, but doubled D4's full-image ATE
+// the gradient the original DSO gives its Jacobians. The interpolant's own derivative
+// (sampleBilinearWithGradient) is a forward difference across the cell, constant within it
+// and jumping at every pixel edge; the blend of central differences is continuous and exact
+// for images quadratic in u and v. It is not the derivative of the value returned, so a
+// Gauss–Newton step with it does not stop at the bilinear cost's minimum, and residuals using
+// it fail a numeric gradient check by design (ImageGradient::kCentralDifferences,
+// photometric_residual.hpp). Measured, mechanism not established: in the window's solve
+// (`window.central_difference_gradients`) it halved the keyframe ATE of H12p, the independent
+// renderer's 120° pinhole; bicubic sampling, smooth and exact for its own cost, did not
 // (docs/performance.md, "The image gradient in the Jacobians").
 inline bool sampleBilinearWithCentralGradient(const ImageF& img, double u, double v,
                                               double* value, double* d_du, double* d_dv,

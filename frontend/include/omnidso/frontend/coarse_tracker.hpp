@@ -62,9 +62,11 @@ struct CoarseTrackerOptions {
   // (docs/performance.md).
   double function_tolerance = 1e-3;
   double huber_threshold = 9.0;
-  // The image gradient of the Jacobians (photometric_residual.hpp);
-  // OdometryOptions::central_difference_gradients.
-  ImageGradient image_gradient = ImageGradient::kInterpolant;
+  // The image gradient in the Jacobians: false, the bilinear interpolant's derivative; true,
+  // central differences blended bilinearly (DSO's; core/interpolation.hpp). Off: on H12p and
+  // own preset C the tracker's part alone was worse (docs/performance.md, "The image
+  // gradient in the Jacobians").
+  bool central_difference_gradients = false;
   double early_reject_factor = 1.5;
   double good_enough_factor = 1.5;  // DSO's re-track threshold
   double min_valid_fraction = 0.3;

@@ -40,9 +40,9 @@ namespace omnidso {
 
 struct InitializerOptions {
   int pattern_spread = 1;  // OdometryOptions::pattern_spread
-  // The image gradient of the Jacobians (photometric_residual.hpp);
-  // OdometryOptions::central_difference_gradients.
-  ImageGradient image_gradient = ImageGradient::kInterpolant;
+  // The image gradient in the Jacobians: false, the bilinear interpolant's derivative; true,
+  // central differences blended bilinearly (DSO's; core/interpolation.hpp).
+  bool central_difference_gradients = false;
   int num_levels = 5;
   int max_iterations_per_level = 8;
   double regularizer_weight = 50.0;    // λ after the snap, intensity² per (inverse distance)²

@@ -71,14 +71,6 @@ struct OdometryOptions {
   // (docs/performance.md, "The narrow view without resampling"); `omnidso run` sets it so for
   // pinhole crops (cli::applyCropPatternSpread). At most 8.
   int pattern_spread = 1;
-  // The image gradient in the Jacobians of the tracker, the initialiser, the window and
-  // activation's refinement: true, central differences blended bilinearly (DSO's;
-  // core/interpolation.hpp, sampleBilinearWithCentralGradient); false, the bilinear
-  // interpolant's own derivative (the epipolar search blends central differences either
-  // way). Off by default: true halves H12p's keyframe ATE (a 120° pinhole, six seeds 0.098 →
-  // 0.050 %) and the own presets' crops' (0.180 → 0.100 %), but costs D4's full image 2× and
-  // own preset C's 4× (docs/performance.md, "The image gradient in the Jacobians").
-  bool central_difference_gradients = false;
   std::uint64_t seed = 0;
   WindowOptions window;
   CoarseTrackerOptions tracker;

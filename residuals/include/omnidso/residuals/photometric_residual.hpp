@@ -52,9 +52,14 @@ enum class ImageInterpolation { kBilinear, kBicubic };
 // The image gradient in a hand-derived Jacobian, for bilinear sampling (bicubic always uses
 // its interpolant's derivative): kInterpolant, the exact derivative of the interpolated
 // value (core/interpolation.hpp), which numeric gradient checks and autodiff agree with;
-// kCentralDifferences, central differences blended bilinearly (DSO's; the odometry's
-// setting central_difference_gradients, sampleBilinearWithCentralGradient says why).
+// kCentralDifferences, central differences blended bilinearly (DSO's; the settings
+// window. / tracker. / initializer.central_difference_gradients, off by default;
+// sampleBilinearWithCentralGradient has the measurements).
 enum class ImageGradient { kInterpolant, kCentralDifferences };
+// The modules' settings `*.central_difference_gradients` as an ImageGradient.
+inline ImageGradient imageGradient(bool central_differences) {
+  return central_differences ? ImageGradient::kCentralDifferences : ImageGradient::kInterpolant;
+}
 
 enum class PhotometricStatus {
   kValid,
