@@ -219,10 +219,10 @@ std::unique_ptr<InitializerLevelPatchesBase> Initializer::Impl::makePatches(Mode
                                                                             int level) const {
   typename M<double>::VecN params = model.params();
   scaleIntrinsicsToLevel(params, level);
+  const ImageGradient gradient = imageGradient(options.central_difference_gradients);
   return std::make_unique<InitializerLevelPatches<M>>(M<double>(params), first_exposure,
                                                       host_pose.data(), host_affine.data(),
-                                                      pixels.size(),
-                                                      imageGradient(options.central_difference_gradients));
+                                                      pixels.size(), gradient);
 }
 
 InitializerLevelPatchesBase& Initializer::Impl::levelPatches(int level) {

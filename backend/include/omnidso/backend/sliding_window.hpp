@@ -161,9 +161,10 @@ struct WindowOptions {
   int pattern_spread = 1;  // OdometryOptions::pattern_spread
   // The image gradient in the solve's and activation's Jacobians: false, the bilinear
   // interpolant's derivative; true, central differences blended bilinearly (DSO's;
-  // core/interpolation.hpp, sampleBilinearWithCentralGradient). Off: true halves H12p's
-  // error (a 120° pinhole) but costs own preset C's full image 1.4× (docs/performance.md,
-  // "The image gradient in the Jacobians").
+  // core/interpolation.hpp, sampleBilinearWithCentralGradient). Off: in the solve alone it
+  // halved H12p's error (a 120° pinhole) and put own preset C's full image from 0.007 to
+  // 0.010 %; with the refinement too, as here, two of H12p's six seeds read 0.13 / 0.30 %
+  // (docs/performance.md, "The image gradient in the Jacobians").
   bool central_difference_gradients = false;
   // Capacity of the inverse-distance storage (parameter_slots.hpp): the most points the
   // window can hold at once; addPoint throws beyond it.

@@ -138,7 +138,9 @@ inline bool sampleBilinearWithCentralGradient(const ImageF& img, double u, doubl
   const int w = img.width(), h = img.height();
   // A neighbour outside the image or the content (a fisheye's black surround) is replaced by
   // the centre pixel: a one-sided difference, so that the circle's edge never enters.
-  const auto inside = [content](int x, int y) { return content == nullptr || (*content)(x, y) != 0; };
+  const auto inside = [content](int x, int y) {
+    return content == nullptr || (*content)(x, y) != 0;
+  };
   const auto blend = [fu, fv, &c](auto&& g) {
     return (1.0 - fv) * ((1.0 - fu) * g(c.u0, c.v0) + fu * g(c.u1, c.v0)) +
            fv * ((1.0 - fu) * g(c.u0, c.v1) + fu * g(c.u1, c.v1));

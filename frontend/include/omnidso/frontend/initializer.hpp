@@ -30,9 +30,9 @@
 #include <omnidso/cameras/camera.hpp>
 #include <omnidso/core/pyramid.hpp>
 #include <omnidso/core/se3.hpp>
-#include <omnidso/residuals/photometric_residual.hpp>
 #include <omnidso/core/task_pool.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
+#include <omnidso/residuals/photometric_residual.hpp>
 #include <string>
 #include <vector>
 
