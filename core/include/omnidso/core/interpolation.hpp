@@ -130,11 +130,11 @@ inline bool sampleBilinearWithGradient(const ImageF& img, double u, double v, do
 inline bool sampleBilinearWithCentralGradient(const ImageF& img, double u, double v,
                                               double* value, double* d_du, double* d_dv,
                                               const Mask* content = nullptr) {
-  // The value and the validity are sampleBilinearWithGradient's.
-  if (!sampleBilinearWithGradient(img, u, v, value, nullptr, nullptr, content)) return false;
-  BilinearCell c;
-  bilinearCell(img.width(), img.height(), u, v, &c);
+  BilinearCell c;  // the value and the validity as sampleBilinearWithGradient's
+  if (!bilinearCell(img.width(), img.height(), u, v, &c) || !cellIsContent(content, c))
+    return false;
   const double fu = u - c.u0, fv = v - c.v0;
+  if (value) *value = bilinearBlend(img, c, fu, fv);
   const int w = img.width(), h = img.height();
   // A neighbour outside the image or the content (a fisheye's black surround) is replaced by
   // the centre pixel: a one-sided difference, so that the circle's edge never enters.
