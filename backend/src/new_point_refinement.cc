@@ -40,7 +40,7 @@ NewPointRefinement SlidingWindow::refineNewPoint(int host_id, const Eigen::Vecto
     if (kf->id == host_id) continue;
     targets.push_back({&kf->pyramid->level(0), kf->pyramid->content(0), kf->pose.data(),
                        kf->affine.data(), kf->exposure,
-                       imageGradient(options_.central_difference_gradients)});
+                       imageGradient(opts.central_difference_gradients)});
   }
   const std::unique_ptr<InverseDistanceResiduals> residuals = factory_->makeInverseDistanceResiduals(
       intrinsics_,

@@ -81,6 +81,9 @@ const Camera& testCamera() {
 // land within the renders' own bias of the truth: the window test (sliding_window_test.cc)
 // finds the optimum of these images ≈ 2 % from ground truth, so a median below 3 % — a
 // third of the starting error — shows convergence, and nearly every candidate is accepted.
+// With either image gradient in the Jacobians (NewPointRefinementOptions::
+// central_difference_gradients); the two must not give the same estimates, or the setting
+// did not reach the refinement.
 TEST(NewPointRefinement, ConvergesToTheTrueInverseDistance) {
   const test::RenderedScene probe(testCamera(), 5);
   const RefinementScene rs(testCamera(), posesAlong(probe.centralPose(),
@@ -88,24 +91,31 @@ TEST(NewPointRefinement, ConvergesToTheTrueInverseDistance) {
                                                      {0.12, 0.0, 0.03}, {0.18, -0.01, 0.05}},
                                                     2.0));
   ASSERT_GT(rs.candidates.size(), 60u);
-  NewPointRefinementOptions options;
-  std::vector<double> before, after;
-  int accepted = 0;
-  for (size_t i = 0; i < rs.candidates.size(); ++i) {
-    const Candidate& c = rs.candidates[i];
-    const double start = c.true_inverse_distance * (i % 2 ? 1.1 : 0.9);
-    const NewPointRefinement r = rs.window->refineNewPoint(0, c.pixel, start, options);
-    if (r.verdict != NewPointVerdict::kAccepted) continue;
-    ++accepted;
-    EXPECT_EQ(r.num_targets, 3);
-    before.push_back(std::abs(start / c.true_inverse_distance - 1.0));
-    after.push_back(std::abs(r.inverse_distance / c.true_inverse_distance - 1.0));
+  std::vector<double> estimates[2];
+  for (const bool central : {false, true}) {
+    SCOPED_TRACE(central ? "central differences" : "the interpolant's derivative");
+    NewPointRefinementOptions options;
+    options.central_difference_gradients = central;
+    std::vector<double> before, after;
+    int accepted = 0;
+    for (size_t i = 0; i < rs.candidates.size(); ++i) {
+      const Candidate& c = rs.candidates[i];
+      const double start = c.true_inverse_distance * (i % 2 ? 1.1 : 0.9);
+      const NewPointRefinement r = rs.window->refineNewPoint(0, c.pixel, start, options);
+      estimates[central].push_back(r.inverse_distance);
+      if (r.verdict != NewPointVerdict::kAccepted) continue;
+      ++accepted;
+      EXPECT_EQ(r.num_targets, 3);
+      before.push_back(std::abs(start / c.true_inverse_distance - 1.0));
+      after.push_back(std::abs(r.inverse_distance / c.true_inverse_distance - 1.0));
+    }
+    EXPECT_GT(accepted, 0.8 * rs.candidates.size());
+    ASSERT_FALSE(after.empty());
+    std::nth_element(after.begin(), after.begin() + after.size() / 2, after.end());
+    EXPECT_LT(after[after.size() / 2], 0.03);
+    EXPECT_NEAR(before.front(), 0.1, 1e-12);
   }
-  EXPECT_GT(accepted, 0.8 * rs.candidates.size());
-  ASSERT_FALSE(after.empty());
-  std::nth_element(after.begin(), after.begin() + after.size() / 2, after.end());
-  EXPECT_LT(after[after.size() / 2], 0.03);
-  EXPECT_NEAR(before.front(), 0.1, 1e-12);
+  EXPECT_NE(estimates[0], estimates[1]);
 }
 
 // Pure rotation: the residuals do not depend on the inverse distance (∂r/∂d = 0 exactly for

@@ -39,6 +39,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"activation.iterations", &o.activation.iterations},
       {"activation.min_hessian", &o.activation.min_hessian},
       {"activation.min_good_residuals", &o.activation.min_good_residuals},
+      {"activation.central_difference_gradients", &o.activation.central_difference_gradients},
       {"max_keyframe_interval_frames", &o.max_keyframe_interval_frames},
       {"window.intrinsics_prior_weight", &o.window.intrinsics_prior_weight},
       {"window.max_iterations", &o.window.max_iterations},

@@ -33,6 +33,12 @@ struct NewPointRefinementOptions {
   // with the odometry's scale (mean inverse distance 1 at initialisation).
   double min_hessian = 100.0;
   int min_good_residuals = 1;
+  // The image gradient in the refinement's Jacobians (ImageGradient, photometric_residual.hpp):
+  // false, the bilinear interpolant's derivative; true, DSO's central differences. Off: with the
+  // window's solve on central differences too, two of H12p's six seeds read 0.13 / 0.30 %
+  // against none above 0.075 % with the solve alone (docs/performance.md, "The image gradient
+  // in the Jacobians").
+  bool central_difference_gradients = false;
 };
 
 enum class NewPointVerdict {

@@ -159,12 +159,11 @@ struct WindowOptions {
   double affine_prior_weight_b = 1e6;
   double gradient_weight_c = kDsoGradientWeightC;
   int pattern_spread = 1;  // OdometryOptions::pattern_spread
-  // The image gradient in the solve's and activation's Jacobians: false, the bilinear
-  // interpolant's derivative; true, central differences blended bilinearly (DSO's;
-  // core/interpolation.hpp, sampleBilinearWithCentralGradient). Off: in the solve alone it
-  // halved H12p's error (a 120° pinhole) and put own preset C's full image from 0.007 to
-  // 0.010 %; with the refinement too, as here, two of H12p's six seeds read 0.13 / 0.30 %
-  // (docs/performance.md, "The image gradient in the Jacobians").
+  // The image gradient in the solve's Jacobians: false, the bilinear interpolant's derivative;
+  // true, central differences blended bilinearly (DSO's; core/interpolation.hpp,
+  // sampleBilinearWithCentralGradient). The activation's refinement has its own setting
+  // (NewPointRefinementOptions). Measured in docs/performance.md, "The image gradient in the
+  // Jacobians".
   bool central_difference_gradients = false;
   // Capacity of the inverse-distance storage (parameter_slots.hpp): the most points the
   // window can hold at once; addPoint throws beyond it.

@@ -53,7 +53,7 @@ enum class ImageInterpolation { kBilinear, kBicubic };
 // its interpolant's derivative): kInterpolant, the exact derivative of the interpolated
 // value (core/interpolation.hpp), which numeric gradient checks and autodiff agree with;
 // kCentralDifferences, central differences blended bilinearly (DSO's; the settings
-// window. / tracker. / initializer.central_difference_gradients, off by default;
+// window. / activation. / tracker. / initializer.central_difference_gradients, off by default;
 // sampleBilinearWithCentralGradient has the measurements).
 enum class ImageGradient { kInterpolant, kCentralDifferences };
 // The modules' settings `*.central_difference_gradients` as an ImageGradient.
