@@ -125,7 +125,7 @@ inline bool sampleBilinearWithGradient(const ImageF& img, double u, double v, do
 // it fail a numeric gradient check by design (ImageGradient::kCentralDifferences,
 // photometric_residual.hpp). Measured, mechanism not established: in the window's solve
 // (`window.central_difference_gradients`) it halved the keyframe ATE of H12p, the independent
-// renderer's 120° pinhole; bicubic sampling, smooth and exact for its own cost, did not
+// renderer's 90° pinhole; bicubic sampling, smooth and exact for its own cost, did not
 // (docs/performance.md, "The image gradient in the Jacobians").
 inline bool sampleBilinearWithCentralGradient(const ImageF& img, double u, double v,
                                               double* value, double* d_du, double* d_dv,

@@ -13,7 +13,7 @@
 // would fit it. Where a wide view separates a sideways step from a turn by the direction of
 // the flow across the image, a narrow view separates them only by parallax — by how the flow
 // changes with the points' inverse distances — and wrong ones turn part of the step into
-// rotation. Measured against the independent renderer's scene on the 120° pinhole render H12p
+// rotation. Measured against the independent renderer's scene on the 90° pinhole render H12p
 // (docs/performance.md, "The tracker's reference against the scene"): 12.5 % of the
 // reference points lay more than 10 % off the scene (5 % more than 30 %), wrong from their
 // activation on, half of them at a depth edge; their information, residual count or age
