@@ -136,29 +136,27 @@ inline bool sampleBilinearWithCentralGradient(const ImageF& img, double u, doubl
   const double fu = u - c.u0, fv = v - c.v0;
   if (value) *value = bilinearBlend(img, c, fu, fv);
   const int w = img.width(), h = img.height();
-  // A neighbour outside the image or the content (a fisheye's black surround) is replaced by
-  // the centre pixel: a one-sided difference, so that the circle's edge never enters.
-  const auto inside = [content](int x, int y) {
-    return content == nullptr || (*content)(x, y) != 0;
+  // The difference along (dx, dy) at pixel (x, y): central, or one-sided where a neighbour is
+  // outside the image or the content (a fisheye's black surround), so that the circle's edge
+  // never enters; 0 where neither neighbour is usable.
+  const auto difference = [&](int x, int y, int dx, int dy) {
+    const auto usable = [&](int nx, int ny) {
+      return nx >= 0 && ny >= 0 && nx < w && ny < h &&
+             (content == nullptr || (*content)(nx, ny) != 0);
+    };
+    const bool before = usable(x - dx, y - dy), after = usable(x + dx, y + dy);
+    const int steps = int{before} + int{after};
+    if (steps == 0) return 0.0;
+    const float a = before ? img(x - dx, y - dy) : img(x, y);  // the difference in float, as
+    const float b = after ? img(x + dx, y + dy) : img(x, y);   // the pixels' own precision
+    return (b - a) / static_cast<double>(steps);
   };
   const auto blend = [fu, fv, &c](auto&& g) {
     return (1.0 - fv) * ((1.0 - fu) * g(c.u0, c.v0) + fu * g(c.u1, c.v0)) +
            fv * ((1.0 - fu) * g(c.u0, c.v1) + fu * g(c.u1, c.v1));
   };
-  if (d_du) {
-    *d_du = blend([&](int x, int y) {
-      const int a = x > 0 && inside(x - 1, y) ? x - 1 : x;
-      const int b = x < w - 1 && inside(x + 1, y) ? x + 1 : x;
-      return b > a ? (img(b, y) - img(a, y)) / static_cast<double>(b - a) : 0.0;
-    });
-  }
-  if (d_dv) {
-    *d_dv = blend([&](int x, int y) {
-      const int a = y > 0 && inside(x, y - 1) ? y - 1 : y;
-      const int b = y < h - 1 && inside(x, y + 1) ? y + 1 : y;
-      return b > a ? (img(x, b) - img(x, a)) / static_cast<double>(b - a) : 0.0;
-    });
-  }
+  if (d_du) *d_du = blend([&](int x, int y) { return difference(x, y, 1, 0); });
+  if (d_dv) *d_dv = blend([&](int x, int y) { return difference(x, y, 0, 1); });
   return true;
 }
 
