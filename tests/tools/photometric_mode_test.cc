@@ -1,17 +1,14 @@
-// The defaults chosen by the data. The photometric model (cli::applyPhotometricMode): with
-// every frame's exposure time the window ties each keyframe's affine brightness to 0; without
-// them the gain goes free (auto-exposure is what the affine model must explain) and the offset
-// stays tied. A pinhole crop's pattern spread (cli::applyCropPatternSpread), and a narrow
-// view's window solve (cli::applyViewProfile). The user's settings still win.
+// The photometric model chosen by the data (cli::applyPhotometricMode): with every frame's
+// exposure time the window ties each keyframe's affine brightness to 0; without them the gain
+// goes free (auto-exposure is what the affine model must explain) and the offset stays tied,
+// and the user's settings still win.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <tuple>
 
 #include <omnidso/cli/dataset_runner.hpp>
 #include <omnidso/cli/process_pool.hpp>
@@ -193,101 +190,6 @@ TEST(CropPatternSpread, FollowsTheCropsMagnification) {
   EXPECT_EQ(applyCropPatternSpread(index, run, &options), "");
   EXPECT_EQ(options.pattern_spread, 1);
   fs::remove_all(dir);
-}
-
-// The view's width is twice the largest angle from the axis over the odometry camera's valid
-// pixels: a 90° pinhole reaches 2 atan(√2 tan 45°) = 109.47° at its corners, whether it is a
-// crop of a fisheye or the calibration itself (unified with ξ = 0, H12p's); a 130° crop
-// 2 atan(√2 tan 65°) = 143.5°; the unified fisheye (f 190, ξ 1.05) sees beyond 180°; and
-// `native-fov:100` bounds it at 100°. Narrow is below 120°.
-TEST(ViewProfile, NarrowViewsAreThoseUnder120Degrees) {
-  test::TempDir tmp("view_profile");
-  const auto calibration = [&](const std::string& name, const std::string& line) {
-    const fs::path path = tmp.path() / name;
-    std::ofstream(path) << line << "\n480 480\nnone\n480 480\n";
-    return path.string();
-  };
-  const std::string fisheye = calibration("fisheye.txt", "UCM 190 190 239.5 239.5 1.05");
-  const std::string pinhole = calibration("pinhole.txt", "UCM 240 240 239.5 239.5 0");
-  DatasetIndex index = indexWithExposures({10.0});
-  index.width = index.height = 480;
-  const double corner_90 = 2.0 * std::atan(std::sqrt(2.0)) * 180.0 / M_PI;
-  const double corner_130 = 2.0 * std::atan(std::sqrt(2.0) * std::tan(65.0 * M_PI / 180.0)) * 180.0 / M_PI;
-  struct Case {
-    std::string calib, camera_model;
-    double fov_deg;  // < 0: only "beyond 180°" is asserted
-    bool narrow;
-  };
-  for (const Case& c : std::vector<Case>{{fisheye, "native", -1.0, false},
-                                         {fisheye, "pinhole-crop:90", corner_90, true},
-                                         {fisheye, "pinhole-crop:130", corner_130, false},
-                                         {fisheye, "native-fov:100", 100.0, true},
-                                         {pinhole, "native", corner_90, true}}) {
-    DatasetRunOptions run;
-    run.calib = c.calib;
-    run.camera_model = c.camera_model;
-    const ViewWidth view = viewWidth(index, run);
-    const std::string label = fs::path(c.calib).filename().string() + " " + c.camera_model;
-    // The bisection to the image circle stops within 1e-6 px; pinholes have no circle.
-    if (c.fov_deg > 0) {
-      EXPECT_NEAR(view.maximum_fov_deg, c.fov_deg, 1e-6) << label;
-    } else {
-      EXPECT_GT(view.maximum_fov_deg, 180.0) << label;
-    }
-    EXPECT_EQ(view.narrow, c.narrow) << label;
-  }
-}
-
-// A narrow view's window solves on central differences with three iterations; a wide one
-// keeps the defaults.
-TEST(ViewProfile, OnlyANarrowViewChangesTheWindow) {
-  const OdometryOptions defaults;
-  OdometryOptions wide;
-  EXPECT_EQ(applyViewProfile(ViewWidth{200.0, false}, &wide), "");
-  EXPECT_EQ(wide.window.central_difference_gradients, defaults.window.central_difference_gradients);
-  EXPECT_EQ(wide.window.max_iterations, defaults.window.max_iterations);
-  OdometryOptions narrow;
-  const std::string note = applyViewProfile(ViewWidth{109.5, true}, &narrow);
-  EXPECT_TRUE(narrow.window.central_difference_gradients);
-  EXPECT_EQ(narrow.window.max_iterations, 3);
-  EXPECT_NE(note.find("109.5°"), std::string::npos) << note;
-  EXPECT_NE(note.find("--set window.max_iterations=" +
-                      std::to_string(defaults.window.max_iterations)),
-            std::string::npos)
-      << note;
-  // Nothing else of the window, the tracker or activation moves.
-  EXPECT_FALSE(narrow.tracker.central_difference_gradients);
-  EXPECT_FALSE(narrow.activation.central_difference_gradients);
-  EXPECT_EQ(narrow.window.max_keyframes, defaults.window.max_keyframes);
-}
-
-// As `omnidso run` applies it: summary.json records the view, the crop's window takes the
-// narrow view's solve, and the user's setting wins (and silences the note).
-TEST(ViewProfile, RunRecordsTheViewAndTheUsersSettingWins) {
-  test::TempDir tmp("view_profile_run");
-  const fs::path data = tmp.path() / "data";
-  synth::SyntheticSequence sequence(test::smallSequenceConfig(3));
-  synth::writeSyntheticDataset(sequence, data.string());
-  auto run = [&](const std::string& name, std::vector<std::string> extra) {
-    const auto [summary, output] = runOmnidso(data, tmp.path(), name, extra);
-    return std::make_tuple(summary.at("settings").at("view"), summary.at("settings").at("odometry"),
-                           output);
-  };
-  const auto [fisheye_view, fisheye, fisheye_log] = run("fisheye", {});
-  EXPECT_FALSE(fisheye_view.at("narrow").get<bool>());
-  EXPECT_GT(fisheye_view.at("maximum_fov_deg").get<double>(), 180.0);
-  EXPECT_FALSE(fisheye.at("window.central_difference_gradients").get<bool>());
-  EXPECT_EQ(fisheye_log.find("narrow view"), std::string::npos) << fisheye_log;
-  const auto [crop_view, crop, crop_log] = run("crop", {"--camera-model", "pinhole-crop:90"});
-  EXPECT_TRUE(crop_view.at("narrow").get<bool>());
-  EXPECT_TRUE(crop.at("window.central_difference_gradients").get<bool>());
-  EXPECT_EQ(crop.at("window.max_iterations").get<int>(), 3);
-  EXPECT_NE(crop_log.find("narrow view"), std::string::npos) << crop_log;
-  const auto [set_view, set, set_log] =
-      run("set", {"--camera-model", "pinhole-crop:90", "--set", "window.max_iterations=2"});
-  EXPECT_EQ(set.at("window.max_iterations").get<int>(), 2);
-  EXPECT_TRUE(set.at("window.central_difference_gradients").get<bool>());
-  EXPECT_EQ(set_log.find("narrow view"), std::string::npos) << set_log;
 }
 
 }  // namespace

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <future>
 #include <iomanip>
-#include <omnidso/cameras/field_of_view.hpp>
 #include <omnidso/cameras/rectification.hpp>
 #include <sstream>
 #include <thread>
@@ -91,43 +90,12 @@ std::string applyCropPatternSpread(const DatasetIndex& index, const DatasetRunOp
   return note.str();
 }
 
-Camera odometryCamera(const Camera& source, const std::string& camera_model) {
-  if (const std::optional<double> crop_fov = parsePinholeCrop(camera_model))
-    return pinholeForFov(*crop_fov, source.width(), source.height());
-  return source.undistortedModel();
-}
-
-ViewWidth viewWidth(const DatasetIndex& index, const DatasetRunOptions& run) {
-  ViewWidth view;
-  view.maximum_fov_deg =
-      maximumFovDeg(odometryCamera(synth::datasetCamera(index, run.calib), run.camera_model));
-  if (const std::optional<double> fov = parseNativeFov(run.camera_model))
-    view.maximum_fov_deg = std::min(view.maximum_fov_deg, *fov);
-  view.narrow = view.maximum_fov_deg < kNarrowViewBelowDeg;
-  return view;
-}
-
-std::string applyViewProfile(const ViewWidth& view, OdometryOptions* options) {
-  if (!view.narrow) return "";
-  const WindowOptions wide;
-  options->window.central_difference_gradients = true;
-  options->window.max_iterations = 3;
-  std::ostringstream note;
-  note << "a narrow view (" << std::fixed << std::setprecision(1) << view.maximum_fov_deg
-       << "° across its widest, under " << std::defaultfloat << kNarrowViewBelowDeg
-       << "°): the window solves on central-difference image gradients with "
-       << options->window.max_iterations
-       << " iterations (--set window.central_difference_gradients="
-       << (wide.central_difference_gradients ? "true" : "false")
-       << " --set window.max_iterations=" << wide.max_iterations << " for a wide view's)";
-  return note.str();
-}
-
 DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptions& options) {
   const Camera source = synth::datasetCamera(index, options.calib);
   const std::optional<double> crop_fov = parsePinholeCrop(options.camera_model);
   // The odometry's camera, and the map from the raw images to it when they differ.
-  const Camera camera = odometryCamera(source, options.camera_model);
+  Camera camera = source.undistortedModel();
+  if (crop_fov) camera = pinholeForFov(*crop_fov, source.width(), source.height());
   std::optional<RectificationMap> rectification;
   Mask image_mask;
   Mask source_content;  // the content on the source's grid (empty: all of it)

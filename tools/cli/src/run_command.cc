@@ -101,9 +101,6 @@ void runOdometry(const RunArguments& args) {
   const std::string photometric_note = applyPhotometricMode(index, &o);  // before the user's
   const std::string pattern_note = applyCropPatternSpread(index, options, &o);  // likewise
   const int crop_pattern_spread = o.pattern_spread;
-  const ViewWidth view = viewWidth(index, options);
-  const std::string view_note = applyViewProfile(view, &o);  // likewise
-  const WindowOptions profile_window = o.window;
   if (!args.config.empty()) applyOdometryConfigFile(o, args.config);
   for (const std::string& s : args.settings) applyOdometrySettingAssignment(o, s);
   refuseToOverwrite(args.out, args.force);  // after every option has been checked
@@ -121,10 +118,6 @@ void runOdometry(const RunArguments& args) {
     std::cerr << "note: " << photometric_note << "\n";
   if (!pattern_note.empty() && o.pattern_spread == crop_pattern_spread)
     std::cerr << "note: " << pattern_note << "\n";
-  if (!view_note.empty() &&
-      o.window.central_difference_gradients == profile_window.central_difference_gradients &&
-      o.window.max_iterations == profile_window.max_iterations)
-    std::cerr << "note: " << view_note << "\n";
   if (run.vignette_estimate) {
     std::cerr << "note: " << vignetteEstimateNote(*run.vignette_estimate) << "\n";
     if (run.vignette_estimate->valid)
@@ -148,7 +141,6 @@ void runOdometry(const RunArguments& args) {
   description.frames_processed = total;
   description.wall_s = run.wall_s;
   description.settings = odometrySettingsJson(o);
-  description.view = {{"maximum_fov_deg", view.maximum_fov_deg}, {"narrow", view.narrow}};
   if (run.vignette_estimate) description.vignette_estimate = vignetteEstimateJson(*run.vignette_estimate);
   const nlohmann::json summary =
       writeRunOutputs(out.path(), index, ground_truth, odometry, description, points);

@@ -89,32 +89,4 @@ std::string applyPhotometricMode(const DatasetIndex& index, OdometryOptions* opt
 std::string applyCropPatternSpread(const DatasetIndex& index, const DatasetRunOptions& run,
                                    OdometryOptions* options);
 
-// The camera the odometry runs on: the calibration's undistorted model, or the pinhole of
-// `pinhole-crop:FOV`.
-Camera odometryCamera(const Camera& source, const std::string& camera_model);
-
-// How wide the odometry's view is: twice the largest angle from the optical axis over its
-// camera's valid pixels (field_of_view.hpp, maximumFovDeg), bounded by `native-fov:FOV`.
-struct ViewWidth {
-  double maximum_fov_deg = 0.0;
-  bool narrow = false;  // maximum_fov_deg < kNarrowViewBelowDeg
-};
-// Below this the view is narrow: a 90° pinhole reaches 109.5° at its corners, every fisheye
-// here 180° and more. At 120° (the fisheye masked to a 120° cone, `native-fov:120`) and 135.6°
-// (`pinhole-crop:120`'s corners) the narrow view's window no longer gains (docs/performance.md,
-// "A narrow view's window: central differences and three iterations").
-constexpr double kNarrowViewBelowDeg = 120.0;
-ViewWidth viewWidth(const DatasetIndex& index, const DatasetRunOptions& run);
-
-// The window's solve as measured best for each width. A narrow view's window solves on DSO's
-// image gradient (central differences blended bilinearly: `window.central_difference_gradients`)
-// with three iterations per keyframe (`window.max_iterations`): over every narrow view measured
-// — a native 90° pinhole render, the 90° crops of the development set and of the own presets —
-// keyframe ATE falls (0.098 → 0.040 %, 0.077 → 0.068 %, 0.180 → 0.142 %, medians of seeds),
-// and the crops' scale drift with it; on the full fisheye image the same pair loses (D4, own
-// presets A and C), so a wide view keeps the interpolant's own gradient and two iterations.
-// Mapping costs 40–50 % more per keyframe on a narrow view. Call before the user's settings,
-// which override it. Returns a note for the user when it changed the options, else "".
-std::string applyViewProfile(const ViewWidth& view, OdometryOptions* options);
-
 }  // namespace omnidso::cli

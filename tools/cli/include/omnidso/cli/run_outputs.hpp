@@ -39,8 +39,6 @@ struct RunDescription {
   double wall_s = 0.0;
   nlohmann::json settings = nlohmann::json::object();  // every odometry setting (odometry_settings.hpp)
   nlohmann::json vignette_estimate = nullptr;  // dataset_vignette.hpp; null when none was tried
-  // The odometry's view width (dataset_runner.hpp, ViewWidth): maximum_fov_deg, narrow.
-  nlohmann::json view = nullptr;
 };
 
 // ground_truth: the camera poses (synth::cameraGroundTruth), read by the caller before the
