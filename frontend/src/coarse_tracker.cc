@@ -283,18 +283,20 @@ std::vector<SE3d> CoarseTracker::makeHypotheses(const SE3d& T_last_ref,
   std::vector<SE3d> out = {predicted, velocity * velocity * T_last_ref, half * T_last_ref,
                            T_last_ref, SE3d()};
   // The prediction turned by a·(i, j, k), (i, j, k) ∈ {−1, 0, 1}³ \ 0: single axes first,
-  // then pairs, then triples (the header's order of likelihood).
-  const double a = impl_->options.rotation_hypothesis_rad;
-  if (!(a > 0)) return out;
-  for (int nonzero = 1; nonzero <= 3; ++nonzero)
-    for (int i = -1; i <= 1; ++i)
-      for (int j = -1; j <= 1; ++j)
-        for (int k = -1; k <= 1; ++k) {
-          if (std::abs(i) + std::abs(j) + std::abs(k) != nonzero) continue;
-          Eigen::Matrix<double, 6, 1> xi;
-          xi << 0, 0, 0, a * i, a * j, a * k;
-          out.push_back(SE3d::exp(xi) * predicted);
-        }
+  // then pairs, then triples (the header's order of likelihood); the wide ring after.
+  for (const double a : {impl_->options.rotation_hypothesis_rad,
+                         impl_->options.wide_rotation_hypothesis_rad}) {
+    if (!(a > 0)) continue;
+    for (int nonzero = 1; nonzero <= 3; ++nonzero)
+      for (int i = -1; i <= 1; ++i)
+        for (int j = -1; j <= 1; ++j)
+          for (int k = -1; k <= 1; ++k) {
+            if (std::abs(i) + std::abs(j) + std::abs(k) != nonzero) continue;
+            Eigen::Matrix<double, 6, 1> xi;
+            xi << 0, 0, 0, a * i, a * j, a * k;
+            out.push_back(SE3d::exp(xi) * predicted);
+          }
+  }
   return out;
 }
 

@@ -1,6 +1,8 @@
 // Coarse-to-fine tracking on a rendered fisheye pair: the relative pose is recovered.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 
 #include <omnidso/core/content_mask.hpp>
@@ -253,6 +255,46 @@ TEST(CoarseTrackerSecondStart, TheFinestLevelOverrulesCoarseLevelsLedAlongTheAxi
   // The coarse levels do lead astray here (else the test would show nothing).
   EXPECT_GT(coarse_to_fine.translation_m, 0.05);
   EXPECT_LT(rmse_with, rmse_without);
+}
+
+
+// The hypotheses (coarse_tracker.hpp): constant velocity, double, half and zero motion, the
+// reference pose, then the prediction turned by 0.04 rad about each of the 26 directions of
+// {−1, 0, 1}³ \ 0 — by 0.04·|(i, j, k)|, i.e. 0.04, 0.057 or 0.069 rad — and, with
+// `wide_rotation_hypothesis_rad`, the same 26 at that angle after them.
+TEST(CoarseTrackerHypotheses, TheWideRingFollowsTheFirstAtItsAngle) {
+  const Camera camera = synth::syntheticCamera("pinhole", 90.0, 320, 240);
+  const SE3d last = test::moveInCamera(SE3d(), {0.1, 0.0, 0.02}, {1.0, 3.0, 0.0});
+  const SE3d velocity = test::moveInCamera(SE3d(), {0.05, 0.01, 0.0}, {0.5, 2.0, 0.2});
+  const SE3d predicted = velocity * last;
+  // The angles of the 26 turns after the first `offset` hypotheses, sorted.
+  auto turns = [&](const std::vector<SE3d>& h, size_t offset) {
+    std::vector<double> angles;
+    for (size_t i = offset; i < offset + 26; ++i)
+      angles.push_back(so3Log((h[i] * predicted.inverse()).rotation()).norm());
+    std::sort(angles.begin(), angles.end());
+    return angles;
+  };
+  auto expected = [](double a) {  // 6 single axes, 12 pairs, 8 triples
+    std::vector<double> angles(6, a);
+    angles.insert(angles.end(), 12, a * std::sqrt(2.0));
+    angles.insert(angles.end(), 8, a * std::sqrt(3.0));
+    return angles;
+  };
+  CoarseTrackerOptions options;
+  const std::vector<SE3d> one_ring = CoarseTracker(camera, options).makeHypotheses(last, velocity);
+  ASSERT_EQ(one_ring.size(), 31u);
+  options.wide_rotation_hypothesis_rad = 0.08;
+  const std::vector<SE3d> two_rings = CoarseTracker(camera, options).makeHypotheses(last, velocity);
+  ASSERT_EQ(two_rings.size(), 57u);
+  const std::vector<double> first = turns(two_rings, 5), wide = turns(two_rings, 31);
+  for (size_t i = 0; i < 26; ++i) {
+    EXPECT_NEAR(first[i], expected(0.04)[i], 1e-12) << i;
+    EXPECT_NEAR(wide[i], expected(0.08)[i], 1e-12) << i;
+  }
+  // The first 31 are the one-ring list, in the same order: the wide ring only adds.
+  for (size_t i = 0; i < one_ring.size(); ++i)
+    EXPECT_LT((one_ring[i].inverse() * two_rings[i]).log().norm(), 1e-15) << i;
 }
 
 }  // namespace

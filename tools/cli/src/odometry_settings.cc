@@ -74,6 +74,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"tracker.good_enough_factor", &o.tracker.good_enough_factor},
       {"tracker.min_valid_fraction", &o.tracker.min_valid_fraction},
       {"tracker.rotation_hypothesis_rad", &o.tracker.rotation_hypothesis_rad},
+      {"tracker.wide_rotation_hypothesis_rad", &o.tracker.wide_rotation_hypothesis_rad},
       {"tracker.affine_prior_weight_a", &o.tracker.affine_prior_weight_a},
       {"tracker.affine_prior_weight_b", &o.tracker.affine_prior_weight_b},
       {"tracker.affine_in_reference_gauge", &o.tracker.affine_in_reference_gauge},

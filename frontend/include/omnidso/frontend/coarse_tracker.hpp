@@ -11,7 +11,8 @@
 // distance) — the coarse image averages them too.
 // Hypotheses (DSO): constant velocity, double, half and zero motion, the reference pose
 // itself, then the constant-velocity guess turned by `rotation_hypothesis_rad` about each of
-// the 26 directions (i, j, k) ∈ {−1, 0, 1}³ \ 0 (DSO's offsets: 0.04 rad per axis);
+// the 26 directions (i, j, k) ∈ {−1, 0, 1}³ \ 0 (DSO's offsets: 0.04 rad per axis), and
+// by `wide_rotation_hypothesis_rad` likewise when it is set;
 // each is tried coarse to fine, and dropped after the coarsest level when its error exceeds
 // `early_reject_factor` × the best coarsest-level error so far. Trying stops as soon as a
 // hypothesis ends below `good_enough_factor` × the previous frame's error.
@@ -71,6 +72,11 @@ struct CoarseTrackerOptions {
   double good_enough_factor = 1.5;  // DSO's re-track threshold
   double min_valid_fraction = 0.3;
   double rotation_hypothesis_rad = 0.04;
+  // A second ring of the 26 turns, at this angle, tried after the first (0: none). A turn of
+  // 10–19° in one frame through a 90° view (H12p at 10 Hz) can leave every hypothesis of the
+  // first ring outside the coarsest level's basin, and the one frame tracked wrong sets the
+  // map's scale for the rest of the run (docs/performance.md, "H12p at 10 Hz").
+  double wide_rotation_hypothesis_rad = 0.0;
   // The second start at the finest level. When coarse to fine lowered the finest-level error
   // by less than `second_start_gain` (10 %) of the error at the winning hypothesis itself, the
   // hypothesis already lay near a finest-level minimum, and the finest level alone is solved
