@@ -257,7 +257,6 @@ TEST(CoarseTrackerSecondStart, TheFinestLevelOverrulesCoarseLevelsLedAlongTheAxi
   EXPECT_LT(rmse_with, rmse_without);
 }
 
-
 // The hypotheses (coarse_tracker.hpp): constant velocity, double, half and zero motion, the
 // reference pose, then the prediction turned by 0.04 rad about each of the 26 directions of
 // {−1, 0, 1}³ \ 0 — by 0.04·|(i, j, k)|, i.e. 0.04, 0.057 or 0.069 rad — and, with
