@@ -287,9 +287,10 @@ TEST(CoarseTrackerHypotheses, TheWideRingFollowsTheFirstAtItsAngle) {
   const std::vector<SE3d> two_rings = CoarseTracker(camera, options).makeHypotheses(last, velocity);
   ASSERT_EQ(two_rings.size(), 57u);
   const std::vector<double> first = turns(two_rings, 5), wide = turns(two_rings, 31);
+  const std::vector<double> first_expected = expected(0.04), wide_expected = expected(0.08);
   for (size_t i = 0; i < 26; ++i) {
-    EXPECT_NEAR(first[i], expected(0.04)[i], 1e-12) << i;
-    EXPECT_NEAR(wide[i], expected(0.08)[i], 1e-12) << i;
+    EXPECT_NEAR(first[i], first_expected[i], 1e-12) << i;
+    EXPECT_NEAR(wide[i], wide_expected[i], 1e-12) << i;
   }
   // The first 31 are the one-ring list, in the same order: the wide ring only adds.
   for (size_t i = 0; i < one_ring.size(); ++i)
