@@ -1,9 +1,7 @@
 #include <ceres/ceres.h>
 
 #include <cmath>
-#include <map>
 #include <omnidso/backend/affine_prior.hpp>
-#include <omnidso/cameras/pyramid_scaling.hpp>
 #include <omnidso/frontend/affine_gauge.hpp>
 #include <omnidso/frontend/coarse_tracker.hpp>
 #include <omnidso/frontend/model_dispatch.hpp>
@@ -13,18 +11,14 @@
 #include <omnidso/residuals/tracking_residual.hpp>
 
 #include "tracker_level_residuals.hpp"
+#include "tracker_reference.hpp"
 
 namespace omnidso {
 struct CoarseTracker::Impl {
   Camera camera;
   CoarseTrackerOptions options;
-  std::shared_ptr<const ImagePyramid> reference;
-  double exposure = 1.0;
-  Eigen::Vector2d affine = Eigen::Vector2d::Zero();
-  // Per level (finest first): the observations and their level pixels / inverse distances.
-  std::vector<std::vector<TrackingObservation<1>>> observations;
-  std::vector<std::vector<Eigen::Vector2d>> pixels;
-  std::vector<std::vector<double>> inverse_distances;
+  std::unique_ptr<const TrackerReference> reference;
+  using LevelObservations = TrackerReference::LevelObservations;
   SE3Manifold manifold;
 
   Impl(const Camera& c, CoarseTrackerOptions o) : camera(c), options(std::move(o)) {}
@@ -34,28 +28,31 @@ struct CoarseTracker::Impl {
   // same in both, a unchanged. Without it the tracker works in the window's gauge.
   Eigen::Vector2d toReferenceGauge(const Eigen::Vector2d& ab, double frame_exposure) const {
     if (!options.affine_in_reference_gauge) return ab;
-    const double s = brightnessGain(frame_exposure, ab.x(), exposure, affine.x());
-    return {ab.x(), ab.y() - s * affine.y()};
+    const double s = brightnessGain(frame_exposure, ab.x(), reference->exposure(),
+                                    reference->affine().x());
+    return {ab.x(), ab.y() - s * reference->affine().y()};
   }
   Eigen::Vector2d fromReferenceGauge(const Eigen::Vector2d& ab, double frame_exposure) const {
     if (!options.affine_in_reference_gauge) return ab;
-    const double s = brightnessGain(frame_exposure, ab.x(), exposure, affine.x());
-    return {ab.x(), ab.y() + s * affine.y()};
+    const double s = brightnessGain(frame_exposure, ab.x(), reference->exposure(),
+                                    reference->affine().x());
+    return {ab.x(), ab.y() + s * reference->affine().y()};
   }
 
   template <template <typename> class M>
   TrackingLevelSolve solveLevel(ModelTag<M>, const M<double>& model, int level,
                                 const ImagePyramid& frame, double frame_exposure, double* pose,
-                                double* frame_affine, bool optimise) const {
-    typename M<double>::VecN params = model.params();
-    scaleIntrinsicsToLevel(params, level);
-    const M<double> level_model(params);
+                                double* frame_affine, bool optimise,
+                                const LevelObservations* set = nullptr) const {
+    const std::vector<TrackingObservation<1>>& level_observations =
+        (set ? *set : reference->observations())[level];
+    const M<double> level_model = TrackerReference::levelModel(model, level);
     if (options.native_solver)
-      return solveLevelNative(level_model, level, frame, frame_exposure, pose, frame_affine,
-                              optimise);
+      return solveLevelNative(level_model, level, level_observations, frame, frame_exposure,
+                              pose, frame_affine, optimise);
     std::vector<std::unique_ptr<OutOfBoundsPenalty>> costs;
-    costs.reserve(observations[level].size());
-    for (TrackingObservation<1> obs : observations[level]) {
+    costs.reserve(level_observations.size());
+    for (TrackingObservation<1> obs : level_observations) {
       obs.target_image = &frame.level(level);
       obs.target_content = frame.content(level);
       obs.target_exposure = frame_exposure;
@@ -117,9 +114,10 @@ struct CoarseTracker::Impl {
   // starting affine, at least 8 residuals — and the same error of the result.
   template <template <typename> class M>
   TrackingLevelSolve solveLevelNative(const M<double>& level_model, int level,
+                                      const std::vector<TrackingObservation<1>>& level_observations,
                                       const ImagePyramid& frame, double frame_exposure,
                                       double* pose, double* frame_affine, bool optimise) const {
-    LevelResiduals<M> residuals(level_model, observations[level], frame.level(level),
+    LevelResiduals<M> residuals(level_model, level_observations, frame.level(level),
                                 frame.content(level), frame_exposure);
     int iterations = -1;
     if (optimise && residuals.size() > 0) {
@@ -147,61 +145,17 @@ struct CoarseTracker::Impl {
     return out;
   }
 
-  template <template <typename> class M>
-  void buildReference(ModelTag<M>, const M<double>& model,
-                      const std::vector<TrackingReferencePoint>& points) {
-    const int levels = std::min(options.num_levels, reference->numLevels());
-    observations.assign(levels, {});
-    pixels.assign(levels, {});
-    inverse_distances.assign(levels, {});
-    for (int level = 0; level < levels; ++level) {
-      typename M<double>::VecN params = model.params();
-      scaleIntrinsicsToLevel(params, level);
-      const M<double> level_model(params);
-      const ImageF& image = reference->level(level);
-      // Merge the points of one level pixel: mean inverse distance.
-      std::map<std::pair<int, int>, std::pair<double, int>> cells;
-      for (const TrackingReferencePoint& p : points) {
-        const int u = static_cast<int>(std::lround(pixelToLevel(p.pixel.x(), level)));
-        const int v = static_cast<int>(std::lround(pixelToLevel(p.pixel.y(), level)));
-        if (u < 1 || v < 1 || u >= image.width() - 1 || v >= image.height() - 1) continue;
-        auto& cell = cells[{v, u}];
-        cell.first += p.inverse_distance;
-        ++cell.second;
-      }
-      for (const auto& [key, acc] : cells) {
-        const Eigen::Vector2d pixel(key.second, key.first);
-        const double d = acc.first / acc.second;
-        // Weighed in E even with `noise_in_encoding` (photometric_residual.hpp): weighed by
-        // the encoding's slope too, the full image of D2 lost its scale (0.02 → 0.9 %) where
-        // the window and the initialiser gained (docs/performance.md, "Residuals weighed in
-        // the camera's encoding"). A likely reason, not measured: the tracker's distances are
-        // held fixed, and their errors shift the target pixel, so its residuals' error grows
-        // with ‖∇E‖ (the gradient weight's model) more than with the sensor's noise.
-        const HostPatch<1> patch = makeHostPatch<1>(image, reference->gradients(level), pixel);
-        auto obs = makeTrackingObservation<M, 1>(level_model, patch, d);
-        if (!obs) continue;
-        obs->host_exposure = exposure;
-        obs->gradient = imageGradient(options.central_difference_gradients);
-        obs->host_a = affine.x();
-        obs->host_b = options.affine_in_reference_gauge ? 0.0 : affine.y();
-        observations[level].push_back(*obs);
-        pixels[level].push_back(pixel);
-        inverse_distances[level].push_back(d);
-      }
-    }
-  }
-
   // RMS distance (level-0 px) between where the two poses put the level-0 points.
   template <template <typename> class M>
   double rmsShiftBetween(const M<double>& model, const SE3d& T_a, const SE3d& T_b) const {
     double sum = 0.0;
     int n = 0;
     const Eigen::Matrix3d R_a = T_a.rotationMatrix(), R_b = T_b.rotationMatrix();
-    for (size_t i = 0; i < pixels[0].size(); ++i) {
+    const std::vector<Eigen::Vector2d>& pixels = reference->finestPixels();
+    for (size_t i = 0; i < pixels.size(); ++i) {
       Eigen::Vector3d b;
-      if (!model.unproject(pixels[0][i], b)) continue;
-      const double d = inverse_distances[0][i];
+      if (!model.unproject(pixels[i], b)) continue;
+      const double d = reference->finestInverseDistances()[i];
       Eigen::Vector2d u_a, u_b;
       if (!model.project(R_a * b + d * T_a.translation(), u_a) ||
           !model.project(R_b * b + d * T_b.translation(), u_b))
@@ -212,22 +166,75 @@ struct CoarseTracker::Impl {
     return n ? std::sqrt(sum / n) : 0.0;
   }
 
+  // The hypotheses, most likely first, each coarse to fine on `set`, dropped after a level
+  // whose error exceeds `early_reject_factor` × the best so far at that level; trying stops
+  // once one ends below `good_enough_factor` × `previous_rmse`. The best by finest-level
+  // error, and the hypothesis it started from.
+  template <template <typename> class M>
+  TrackingResult tryHypotheses(ModelTag<M> tag, const M<double>& model, const ImagePyramid& frame,
+                               double frame_exposure, int levels,
+                               const std::vector<SE3d>& hypotheses, const Eigen::Vector2d& start,
+                               double previous_rmse, const LevelObservations& set,
+                               SE3d* winning_hypothesis) const {
+    TrackingResult best;
+    std::vector<double> best_coarse_rmse(levels, std::numeric_limits<double>::infinity());
+    double best_final = std::numeric_limits<double>::infinity();
+    for (const SE3d& hypothesis : hypotheses) {
+      ++best.hypotheses_tried;
+      std::array<double, 7> pose;
+      hypothesis.toParameters(pose.data());
+      std::array<double, 2> frame_affine = {start.x(), start.y()};
+      std::vector<double> level_rmse(levels, std::numeric_limits<double>::infinity());
+      bool rejected = false;
+      TrackingLevelSolve finest;
+      for (int level = levels - 1; level >= 0; --level) {
+        const TrackingLevelSolve r = solveLevel(tag, model, level, frame, frame_exposure,
+                                                pose.data(), frame_affine.data(), true, &set);
+        level_rmse[level] = r.rmse;
+        finest = r;
+        if (!std::isfinite(r.rmse) ||
+            r.rmse > options.early_reject_factor * best_coarse_rmse[level]) {
+          rejected = true;
+          break;
+        }
+        best_coarse_rmse[level] = std::min(best_coarse_rmse[level], r.rmse);
+      }
+      if (rejected || finest.valid_fraction < options.min_valid_fraction) continue;
+      if (finest.rmse < best_final) {
+        best_final = finest.rmse;
+        best.ok = true;
+        best.T_frame_ref = SE3d::fromParameters(pose.data());
+        best.affine = fromReferenceGauge(Eigen::Vector2d(frame_affine[0], frame_affine[1]),
+                                         frame_exposure);
+        best.level_rmse = level_rmse;
+        best.rmse = finest.rmse;
+        best.valid_fraction = finest.valid_fraction;
+        *winning_hypothesis = hypothesis;
+      }
+      if (best.ok && std::isfinite(previous_rmse) &&
+          best.rmse < options.good_enough_factor * previous_rmse)
+        break;
+    }
+    return best;
+  }
+
   // RMS pixel shifts of the level-0 points under translation only and under the full motion.
   template <template <typename> class M>
   void flow(ModelTag<M>, const M<double>& model, const SE3d& T, TrackingResult* result) const {
     double sum_t = 0.0, sum_rt = 0.0;
     int n = 0;
     const Eigen::Matrix3d R = T.rotationMatrix();
-    for (size_t i = 0; i < pixels[0].size(); ++i) {
+    const std::vector<Eigen::Vector2d>& pixels = reference->finestPixels();
+    for (size_t i = 0; i < pixels.size(); ++i) {
       Eigen::Vector3d b;
-      if (!model.unproject(pixels[0][i], b)) continue;
-      const double d = inverse_distances[0][i];
+      if (!model.unproject(pixels[i], b)) continue;
+      const double d = reference->finestInverseDistances()[i];
       Eigen::Vector2d u_t, u_rt;
       if (!model.project(b + d * T.translation(), u_t) ||
           !model.project(R * b + d * T.translation(), u_rt))
         continue;
-      sum_t += (u_t - pixels[0][i]).squaredNorm();
-      sum_rt += (u_rt - pixels[0][i]).squaredNorm();
+      sum_t += (u_t - pixels[i]).squaredNorm();
+      sum_rt += (u_rt - pixels[i]).squaredNorm();
       ++n;
     }
     result->flow_t = n ? std::sqrt(sum_t / n) : 0.0;
@@ -243,24 +250,26 @@ CoarseTracker::~CoarseTracker() = default;
 bool CoarseTracker::hasReference() const { return impl_->reference != nullptr; }
 
 int CoarseTracker::numReferencePoints(int level) const {
-  if (level < 0 || level >= static_cast<int>(impl_->observations.size())) return 0;
-  return static_cast<int>(impl_->observations[level].size());
+  if (!hasReference() || level < 0 ||
+      level >= static_cast<int>(impl_->reference->observations().size()))
+    return 0;
+  return static_cast<int>(impl_->reference->observations()[level].size());
 }
 
 void CoarseTracker::setReference(std::shared_ptr<const ImagePyramid> pyramid, double exposure,
                                  const Eigen::Vector2d& affine,
                                  const std::vector<TrackingReferencePoint>& points) {
-  impl_->reference = std::move(pyramid);
-  impl_->exposure = exposure;
-  impl_->affine = affine;
-  withResidualModel<void>(impl_->camera, [&](auto tag, const auto& model) {
-    impl_->buildReference(tag, model, points);
-  });
+  auto reference =
+      std::make_unique<TrackerReference>(std::move(pyramid), exposure, affine, impl_->options);
+  withResidualModel<void>(impl_->camera,
+                          [&](auto, const auto& model) { reference->build(model, points); });
+  impl_->reference = std::move(reference);
 }
 
 TrackingLevelSolve CoarseTracker::solveLevel(const ImagePyramid& frame, double exposure, int level,
                                              SE3d* T_frame_ref, Eigen::Vector2d* affine) const {
-  if (!hasReference() || level < 0 || level >= static_cast<int>(impl_->observations.size()) ||
+  if (!hasReference() || level < 0 ||
+      level >= static_cast<int>(impl_->reference->observations().size()) ||
       level >= frame.numLevels())
     return {};
   std::array<double, 7> pose;
@@ -306,53 +315,44 @@ TrackingResult CoarseTracker::track(const ImagePyramid& frame, double exposure,
                                     double previous_rmse) const {
   TrackingResult best;
   if (!hasReference() || hypotheses.empty()) return best;
-  const int levels = std::min<int>(impl_->observations.size(), frame.numLevels());
-  std::vector<double> best_coarse_rmse(levels, std::numeric_limits<double>::infinity());
-  double best_final = std::numeric_limits<double>::infinity();
+  const int levels = std::min<int>(impl_->reference->observations().size(), frame.numLevels());
   const Eigen::Vector2d start = impl_->toReferenceGauge(affine_guess, exposure);
-  const SE3d* winning_hypothesis = nullptr;
   withResidualModel<void>(impl_->camera, [&](auto tag, const auto& model) {
-    for (const SE3d& hypothesis : hypotheses) {
-      ++best.hypotheses_tried;
-      std::array<double, 7> pose;
-      hypothesis.toParameters(pose.data());
-      std::array<double, 2> affine = {start.x(), start.y()};
-      std::vector<double> level_rmse(levels, std::numeric_limits<double>::infinity());
-      bool rejected = false;
-      TrackingLevelSolve finest;
-      for (int level = levels - 1; level >= 0; --level) {
-        const TrackingLevelSolve r = impl_->solveLevel(tag, model, level, frame, exposure,
-                                                      pose.data(), affine.data(), true);
-        level_rmse[level] = r.rmse;
-        finest = r;
-        if (!std::isfinite(r.rmse) ||
-            r.rmse > impl_->options.early_reject_factor * best_coarse_rmse[level]) {
-          rejected = true;
-          break;
+    SE3d winning_hypothesis;
+    best = impl_->tryHypotheses(tag, model, frame, exposure, levels, hypotheses, start,
+                                previous_rmse, impl_->reference->observations(),
+                                &winning_hypothesis);
+    // The header's retry on the dilated reference, for a frame no hypothesis tracked well
+    // enough: its result is a hypothesis for the plain reference, adopted where it ends lower.
+    const bool good_enough = best.ok && std::isfinite(previous_rmse) &&
+                             best.rmse < impl_->options.good_enough_factor * previous_rmse;
+    if (impl_->options.dilated_retry && std::isfinite(previous_rmse) && !good_enough) {
+      SE3d ignored;
+      const TrackingResult wide =
+          impl_->tryHypotheses(tag, model, frame, exposure, levels, hypotheses, start,
+                               previous_rmse, impl_->reference->dilatedObservations(model),
+                               &ignored);
+      best.dilated_retry = true;
+      best.hypotheses_tried += wide.hypotheses_tried;
+      if (wide.ok) {
+        const TrackingResult again = impl_->tryHypotheses(
+            tag, model, frame, exposure, levels, {wide.T_frame_ref}, start,
+            std::numeric_limits<double>::infinity(), impl_->reference->observations(), &ignored);
+        if (again.ok && (!best.ok || again.rmse < best.rmse)) {
+          const int tried = best.hypotheses_tried + again.hypotheses_tried;
+          best = again;
+          best.hypotheses_tried = tried;
+          best.dilated_retry = true;
+          winning_hypothesis = wide.T_frame_ref;
         }
-        best_coarse_rmse[level] = std::min(best_coarse_rmse[level], r.rmse);
       }
-      if (rejected || finest.valid_fraction < impl_->options.min_valid_fraction) continue;
-      if (finest.rmse < best_final) {
-        best_final = finest.rmse;
-        best.ok = true;
-        best.T_frame_ref = SE3d::fromParameters(pose.data());
-        best.affine = impl_->fromReferenceGauge(Eigen::Vector2d(affine[0], affine[1]), exposure);
-        best.level_rmse = level_rmse;
-        best.rmse = finest.rmse;
-        best.valid_fraction = finest.valid_fraction;
-        winning_hypothesis = &hypothesis;
-      }
-      if (best.ok && std::isfinite(previous_rmse) &&
-          best.rmse < impl_->options.good_enough_factor * previous_rmse)
-        break;
     }
     // The header's second start: the finest level alone, from the winning hypothesis, when
     // coarse to fine lowered the finest-level error by less than `second_start_gain` of the
     // hypothesis' own.
     if (best.ok && impl_->options.finest_level_second_start && levels > 1) {
       std::array<double, 7> pose;
-      winning_hypothesis->toParameters(pose.data());
+      winning_hypothesis.toParameters(pose.data());
       std::array<double, 2> affine = {start.x(), start.y()};
       const TrackingLevelSolve at_hypothesis =
           impl_->solveLevel(tag, model, 0, frame, exposure, pose.data(), affine.data(), false);

@@ -69,6 +69,8 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"tracker.max_iterations", &o.tracker.max_iterations},
       {"tracker.huber_threshold", &o.tracker.huber_threshold},
       {"tracker.central_difference_gradients", &o.tracker.central_difference_gradients},
+      {"tracker.dilate_reference", &o.tracker.dilate_reference},
+      {"tracker.dilated_retry", &o.tracker.dilated_retry},
       {"tracker.function_tolerance", &o.tracker.function_tolerance},
       {"tracker.early_reject_factor", &o.tracker.early_reject_factor},
       {"tracker.good_enough_factor", &o.tracker.good_enough_factor},

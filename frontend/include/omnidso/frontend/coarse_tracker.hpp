@@ -68,6 +68,15 @@ struct CoarseTrackerOptions {
   // own preset C the tracker's part alone was worse (docs/performance.md, "The image
   // gradient in the Jacobians").
   bool central_difference_gradients = false;
+  // Each level's reference points dilated by one pixel (reference_dilation.hpp; DSO's coarse
+  // tracker does the same): the diagonal neighbours on levels 0 and 1, the direct ones from
+  // level 2 on. Setting `tracker.dilate_reference`.
+  bool dilate_reference = false;
+  // The retry on the dilated reference: when no hypothesis ends below `good_enough_factor` ×
+  // the previous frame's error, the hypotheses are tried again on the reference dilated as
+  // above, and its winner, tracked once more on the plain reference, replaces the first
+  // result where it ends lower there. Setting `tracker.dilated_retry`.
+  bool dilated_retry = false;
   double early_reject_factor = 1.5;
   double good_enough_factor = 1.5;  // DSO's re-track threshold
   double min_valid_fraction = 0.3;
@@ -142,7 +151,8 @@ struct TrackingResult {
   double valid_fraction = 0.0;
   double flow_t = 0.0;   // RMS shift, translation only (px)
   double flow_rt = 0.0;  // RMS shift, full motion (px)
-  int hypotheses_tried = 0;
+  int hypotheses_tried = 0;  // on both references when the retry ran
+  bool dilated_retry = false;  // the retry on the dilated reference ran
 };
 
 class CoarseTracker {
