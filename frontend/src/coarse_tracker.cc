@@ -291,6 +291,7 @@ std::vector<SE3d> CoarseTracker::makeHypotheses(const SE3d& T_last_ref,
   const SE3d predicted = velocity * T_last_ref;
   std::vector<SE3d> out = {predicted, velocity * velocity * T_last_ref, half * T_last_ref,
                            T_last_ref, SE3d()};
+  if (impl_->options.reversed_step_hypothesis) out.push_back(velocity.inverse() * T_last_ref);
   // The prediction turned by a·(i, j, k), (i, j, k) ∈ {−1, 0, 1}³ \ 0: single axes first,
   // then pairs, then triples (the header's order of likelihood); the wide ring after.
   for (const double a : {impl_->options.rotation_hypothesis_rad,

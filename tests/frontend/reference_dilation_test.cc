@@ -15,16 +15,20 @@ TEST(ReferenceDilation, APointSpreadsToItsFourNeighboursOfTheChosenKind) {
   const LevelInverseDistances one = at({{{5, 5}, 0.5}});
   const LevelInverseDistances diagonal =
       dilateInverseDistances(one, 12, 10, DilationNeighbours::kDiagonal);
-  EXPECT_EQ(diagonal, at({{{4, 4}, 0.5}, {{4, 6}, 0.5}, {{5, 5}, 0.5}, {{6, 4}, 0.5}, {{6, 6}, 0.5}}));
-  const LevelInverseDistances direct = dilateInverseDistances(one, 12, 10, DilationNeighbours::kDirect);
-  EXPECT_EQ(direct, at({{{4, 5}, 0.5}, {{5, 4}, 0.5}, {{5, 5}, 0.5}, {{5, 6}, 0.5}, {{6, 5}, 0.5}}));
+  EXPECT_EQ(diagonal,
+            at({{{4, 4}, 0.5}, {{4, 6}, 0.5}, {{5, 5}, 0.5}, {{6, 4}, 0.5}, {{6, 6}, 0.5}}));
+  const LevelInverseDistances direct =
+      dilateInverseDistances(one, 12, 10, DilationNeighbours::kDirect);
+  EXPECT_EQ(direct,
+            at({{{4, 5}, 0.5}, {{5, 4}, 0.5}, {{5, 5}, 0.5}, {{5, 6}, 0.5}, {{6, 5}, 0.5}}));
 }
 
 // A pixel between two points takes their mean; the points themselves keep their own values,
 // and the new points do not spread further in the same pass.
 TEST(ReferenceDilation, ANewPointIsTheMeanOfItsNeighbouringPointsOnly) {
   const LevelInverseDistances two = at({{{5, 4}, 1.0}, {{5, 6}, 3.0}});  // u = 4 and u = 6
-  const LevelInverseDistances direct = dilateInverseDistances(two, 12, 10, DilationNeighbours::kDirect);
+  const LevelInverseDistances direct =
+      dilateInverseDistances(two, 12, 10, DilationNeighbours::kDirect);
   ASSERT_EQ(direct.size(), 2u + 7u);  // 4 + 4 neighbours, (5, 5) shared
   EXPECT_DOUBLE_EQ(direct.at({5, 5}), 2.0);
   EXPECT_DOUBLE_EQ(direct.at({5, 4}), 1.0);

@@ -76,6 +76,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"tracker.good_enough_factor", &o.tracker.good_enough_factor},
       {"tracker.min_valid_fraction", &o.tracker.min_valid_fraction},
       {"tracker.rotation_hypothesis_rad", &o.tracker.rotation_hypothesis_rad},
+      {"tracker.reversed_step_hypothesis", &o.tracker.reversed_step_hypothesis},
       {"tracker.wide_rotation_hypothesis_rad", &o.tracker.wide_rotation_hypothesis_rad},
       {"tracker.affine_prior_weight_a", &o.tracker.affine_prior_weight_a},
       {"tracker.affine_prior_weight_b", &o.tracker.affine_prior_weight_b},

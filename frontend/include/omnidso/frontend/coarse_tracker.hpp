@@ -10,12 +10,17 @@
 // Coarser levels: the points falling into one coarse pixel are merged (mean inverse
 // distance) — the coarse image averages them too.
 // Hypotheses (DSO): constant velocity, double, half and zero motion, the reference pose
-// itself, then the constant-velocity guess turned by `rotation_hypothesis_rad` about each of
+// itself, the last step reversed (`reversed_step_hypothesis`; not DSO's), then the
+// constant-velocity guess turned by `rotation_hypothesis_rad` about each of
 // the 26 directions (i, j, k) ∈ {−1, 0, 1}³ \ 0 (DSO's offsets: 0.04 rad per axis), and
 // by `wide_rotation_hypothesis_rad` likewise when it is set;
 // each is tried coarse to fine, and dropped after the coarsest level when its error exceeds
 // `early_reject_factor` × the best coarsest-level error so far. Trying stops as soon as a
 // hypothesis ends below `good_enough_factor` × the previous frame's error.
+// When none ends below that (a frame no hypothesis tracks well enough), the hypotheses are
+// tried once more on the reference dilated by one pixel per level (`dilated_retry`,
+// reference_dilation.hpp), and the winner there, tracked once more on the plain reference,
+// replaces the first result if it ends lower.
 // The winner may be solved once more at the finest level alone (the second start below).
 // Success: enough points stay valid and the final error is finite.
 // Flow statistics for the keyframe decision (DSO): RMS pixel shift of the points under the
@@ -74,13 +79,35 @@ struct CoarseTrackerOptions {
   bool dilate_reference = false;
   // The retry on the dilated reference: when no hypothesis ends below `good_enough_factor` ×
   // the previous frame's error, the hypotheses are tried again on the reference dilated as
-  // above, and its winner, tracked once more on the plain reference, replaces the first
-  // result where it ends lower there. Setting `tracker.dilated_retry`.
-  bool dilated_retry = false;
+  // above (once more, if `dilate_reference` is set), and its winner, tracked once more on the
+  // plain reference, replaces the first result where it ends lower there.
+  // Why: the dilated reference has more terms per level, and its coarse levels' valleys reach
+  // further; on H12p at 10 Hz a turn that sped up from 5° to 15° per frame left the
+  // constant-velocity guess 10° short, every hypothesis ended in another minimum (error 3.4×
+  // the previous frame's, 8.5° off), and the keyframe made there set the map's scale 30 % high
+  // for the rest of the run; the original DSO, whose reference is dilated, tracked it. Dilated
+  // on every frame the reference costs accuracy where the plain one tracks well (a dilated
+  // point takes its neighbours' inverse distance across depth edges: H12p 0.098 → 0.126 %, own
+  // preset C 5×) and triples the tracking time; as a retry it runs on the frames that need it
+  // (H12p at 20 Hz and the development set: once in a run, or never) and the result is judged
+  // on the plain reference. H12p10 0.425 → 0.106 % (docs/performance.md, "The tracker's
+  // reference dilated"). Setting `tracker.dilated_retry`.
+  bool dilated_retry = true;
   double early_reject_factor = 1.5;
   double good_enough_factor = 1.5;  // DSO's re-track threshold
   double min_valid_fraction = 0.3;
   double rotation_hypothesis_rad = 0.04;
+  // The last step reversed — the previous frame's pose, velocity⁻¹ · T_last_ref = T_prev_ref —
+  // tried after DSO's five and before the turns. Why: a hand-held camera shakes, and a shake
+  // reverses its turn from one frame to the next; then the constant-velocity guess lies two
+  // steps from the truth and zero motion one, while the previous frame's pose lies only the
+  // difference of the two steps away. On the development set's D2 at 10 Hz through the 90°
+  // crop the pitch went −3.1° then +5.7°: the guess 8.8° off, zero motion 5.7° off, both
+  // beyond the coarse levels' valley about that axis (2–4°, measured from the truth turned),
+  // every hypothesis ended at 4× the truth's error, and the keyframe made there set the map's
+  // scale 4.6× off (docs/performance.md, "The last step reversed"). Setting
+  // `tracker.reversed_step_hypothesis`.
+  bool reversed_step_hypothesis = true;
   // A second ring of the 26 turns, at this angle, tried after the first (0: none). On a 90°
   // view at 10 Hz (H12p10, turns of up to 19° per frame) one frame tracked wrong in a fast
   // turn set the map's scale for the rest of the run; with 0.08 the six-seed median went
@@ -176,7 +203,8 @@ class CoarseTracker {
   TrackingLevelSolve solveLevel(const ImagePyramid& frame, double exposure, int level,
                                 SE3d* T_frame_ref, Eigen::Vector2d* affine) const;
 
-  // DSO's hypothesis list around a constant-velocity guess (T_last_ref · velocity).
+  // DSO's hypothesis list around a constant-velocity guess (velocity · T_last_ref, velocity =
+  // T_last_prev), with the reversed step after DSO's five when it is set.
   std::vector<SE3d> makeHypotheses(const SE3d& T_last_ref, const SE3d& velocity) const;
 
  private:
