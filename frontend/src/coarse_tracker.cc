@@ -19,6 +19,15 @@ struct CoarseTracker::Impl {
   CoarseTrackerOptions options;
   std::unique_ptr<const TrackerReference> reference;
   using LevelObservations = TrackerReference::LevelObservations;
+  // What one pass over the hypotheses aligns, and its iteration budget per level.
+  struct Pass {
+    const LevelObservations& observations;
+    const std::vector<int>& max_iterations;
+    int maxIterations(int level) const {
+      return max_iterations[std::min<size_t>(level, max_iterations.size() - 1)];
+    }
+  };
+  Pass plainPass() const { return {reference->observations(), options.max_iterations}; }
   SE3Manifold manifold;
 
   Impl(const Camera& c, CoarseTrackerOptions o) : camera(c), options(std::move(o)) {}
@@ -43,13 +52,14 @@ struct CoarseTracker::Impl {
   TrackingLevelSolve solveLevel(ModelTag<M>, const M<double>& model, int level,
                                 const ImagePyramid& frame, double frame_exposure, double* pose,
                                 double* frame_affine, bool optimise,
-                                const LevelObservations* set = nullptr) const {
-    const std::vector<TrackingObservation<1>>& level_observations =
-        (set ? *set : reference->observations())[level];
+                                const Pass* pass = nullptr) const {
+    const Pass plain = plainPass();
+    if (!pass) pass = &plain;
+    const std::vector<TrackingObservation<1>>& level_observations = pass->observations[level];
     const M<double> level_model = TrackerReference::levelModel(model, level);
     if (options.native_solver)
-      return solveLevelNative(level_model, level, level_observations, frame, frame_exposure,
-                              pose, frame_affine, optimise);
+      return solveLevelNative(level_model, level, level_observations, pass->maxIterations(level),
+                              frame, frame_exposure, pose, frame_affine, optimise);
     std::vector<std::unique_ptr<OutOfBoundsPenalty>> costs;
     costs.reserve(level_observations.size());
     for (TrackingObservation<1> obs : level_observations) {
@@ -85,8 +95,7 @@ struct CoarseTracker::Impl {
       if (added >= 8) {
         ceres::Solver::Options so;
         so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-        so.max_num_iterations = options.max_iterations[std::min<size_t>(
-            level, options.max_iterations.size() - 1)];
+        so.max_num_iterations = pass->maxIterations(level);
         so.num_threads = options.num_threads;
         so.function_tolerance = options.function_tolerance;
         so.logging_type = ceres::SILENT;
@@ -115,7 +124,8 @@ struct CoarseTracker::Impl {
   template <template <typename> class M>
   TrackingLevelSolve solveLevelNative(const M<double>& level_model, int level,
                                       const std::vector<TrackingObservation<1>>& level_observations,
-                                      const ImagePyramid& frame, double frame_exposure,
+                                      int max_iterations, const ImagePyramid& frame,
+                                      double frame_exposure,
                                       double* pose, double* frame_affine, bool optimise) const {
     LevelResiduals<M> residuals(level_model, level_observations, frame.level(level),
                                 frame.content(level), frame_exposure);
@@ -130,8 +140,7 @@ struct CoarseTracker::Impl {
       problem.affine_prior_weight_b = options.affine_prior_weight_b;
       problem.min_residuals = 8;
       TrackerSolverOptions so;
-      so.max_num_iterations =
-          options.max_iterations[std::min<size_t>(level, options.max_iterations.size() - 1)];
+      so.max_num_iterations = max_iterations;
       so.function_tolerance = options.function_tolerance;
       const TrackerSolverSummary summary = solveTracker(problem, so, pose, frame_affine);
       if (summary.termination != TrackerTermination::kNotSolved) iterations = summary.iterations;
@@ -166,7 +175,7 @@ struct CoarseTracker::Impl {
     return n ? std::sqrt(sum / n) : 0.0;
   }
 
-  // The hypotheses, most likely first, each coarse to fine on `set`, dropped after a level
+  // The hypotheses, most likely first, each coarse to fine in `pass`, dropped after a level
   // whose error exceeds `early_reject_factor` × the best so far at that level; trying stops
   // once one ends below `good_enough_factor` × `previous_rmse`. The best by finest-level
   // error, and the hypothesis it started from.
@@ -174,7 +183,7 @@ struct CoarseTracker::Impl {
   TrackingResult tryHypotheses(ModelTag<M> tag, const M<double>& model, const ImagePyramid& frame,
                                double frame_exposure, int levels,
                                const std::vector<SE3d>& hypotheses, const Eigen::Vector2d& start,
-                               double previous_rmse, const LevelObservations& set,
+                               double previous_rmse, const Pass& pass,
                                SE3d* winning_hypothesis) const {
     TrackingResult best;
     std::vector<double> best_coarse_rmse(levels, std::numeric_limits<double>::infinity());
@@ -189,7 +198,7 @@ struct CoarseTracker::Impl {
       TrackingLevelSolve finest;
       for (int level = levels - 1; level >= 0; --level) {
         const TrackingLevelSolve r = solveLevel(tag, model, level, frame, frame_exposure,
-                                                pose.data(), frame_affine.data(), true, &set);
+                                                pose.data(), frame_affine.data(), true, &pass);
         level_rmse[level] = r.rmse;
         finest = r;
         if (!std::isfinite(r.rmse) ||
@@ -320,25 +329,26 @@ TrackingResult CoarseTracker::track(const ImagePyramid& frame, double exposure,
   const Eigen::Vector2d start = impl_->toReferenceGauge(affine_guess, exposure);
   withResidualModel<void>(impl_->camera, [&](auto tag, const auto& model) {
     SE3d winning_hypothesis;
+    const Impl::Pass plain = impl_->plainPass();
     best = impl_->tryHypotheses(tag, model, frame, exposure, levels, hypotheses, start,
-                                previous_rmse, impl_->reference->observations(),
-                                &winning_hypothesis);
+                                previous_rmse, plain, &winning_hypothesis);
     // The header's retry on the dilated reference, for a frame no hypothesis tracked well
     // enough: its result is a hypothesis for the plain reference, adopted where it ends lower.
     const bool good_enough = best.ok && std::isfinite(previous_rmse) &&
                              best.rmse < impl_->options.good_enough_factor * previous_rmse;
     if (impl_->options.dilated_retry && std::isfinite(previous_rmse) && !good_enough) {
       SE3d ignored;
+      const Impl::Pass dilated{impl_->reference->dilatedObservations(model),
+                               impl_->options.retry_max_iterations};
       const TrackingResult wide =
           impl_->tryHypotheses(tag, model, frame, exposure, levels, hypotheses, start,
-                               previous_rmse, impl_->reference->dilatedObservations(model),
-                               &ignored);
+                               previous_rmse, dilated, &ignored);
       best.dilated_retry = true;
       best.hypotheses_tried += wide.hypotheses_tried;
       if (wide.ok) {
         const TrackingResult again = impl_->tryHypotheses(
             tag, model, frame, exposure, levels, {wide.T_frame_ref}, start,
-            std::numeric_limits<double>::infinity(), impl_->reference->observations(), &ignored);
+            std::numeric_limits<double>::infinity(), plain, &ignored);
         if (again.ok && (!best.ok || again.rmse < best.rmse)) {
           const int tried = best.hypotheses_tried + again.hypotheses_tried;
           best = again;

@@ -71,6 +71,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"tracker.central_difference_gradients", &o.tracker.central_difference_gradients},
       {"tracker.dilate_reference", &o.tracker.dilate_reference},
       {"tracker.dilated_retry", &o.tracker.dilated_retry},
+      {"tracker.retry_max_iterations", &o.tracker.retry_max_iterations},
       {"tracker.function_tolerance", &o.tracker.function_tolerance},
       {"tracker.early_reject_factor", &o.tracker.early_reject_factor},
       {"tracker.good_enough_factor", &o.tracker.good_enough_factor},

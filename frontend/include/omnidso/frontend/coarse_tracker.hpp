@@ -79,8 +79,9 @@ struct CoarseTrackerOptions {
   bool dilate_reference = false;
   // The retry on the dilated reference: when no hypothesis ends below `good_enough_factor` ×
   // the previous frame's error, the hypotheses are tried again on the reference dilated as
-  // above (once more, if `dilate_reference` is set), and its winner, tracked once more on the
-  // plain reference, replaces the first result where it ends lower there.
+  // above (once more, if `dilate_reference` is set) with `retry_max_iterations` per level, and
+  // its winner, tracked once more on the plain reference (with `max_iterations`), replaces the
+  // first result where it ends lower there.
   // Why: the dilated reference has more terms per level, and its coarse levels' valleys reach
   // further; on H12p at 10 Hz a turn that sped up from 5° to 15° per frame left the
   // constant-velocity guess 10° short, every hypothesis ended in another minimum (error 3.4×
@@ -93,6 +94,12 @@ struct CoarseTrackerOptions {
   // on the plain reference. H12p10 0.425 → 0.106 % (docs/performance.md, "The tracker's
   // reference dilated"). Setting `tracker.dilated_retry`.
   bool dilated_retry = true;
+  // The retry's iterations per level, finest first (DSO's budget: its tracker runs them on
+  // every frame). On every frame here they cost H12p (0.098 → 0.140 %) and the development
+  // set's crops; on the retry's frames alone they track D2's crop at 10 Hz through a
+  // stop-and-go turn (9.7°, 2°, 9.3° per frame) that the default budget ended 8° off (same
+  // section). Setting `tracker.retry_max_iterations` (a list, as `max_iterations`).
+  std::vector<int> retry_max_iterations = {10, 20, 50, 50, 50};
   double early_reject_factor = 1.5;
   double good_enough_factor = 1.5;  // DSO's re-track threshold
   double min_valid_fraction = 0.3;
