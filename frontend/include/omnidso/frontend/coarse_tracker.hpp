@@ -91,7 +91,8 @@ struct CoarseTrackerOptions {
   // point takes its neighbours' inverse distance across depth edges: H12p 0.098 → 0.126 %, own
   // preset C 5×) and triples the tracking time; as a retry it runs on the frames that need it
   // (H12p at 20 Hz and the development set: once in a run, or never) and the result is judged
-  // on the plain reference. H12p10 0.425 → 0.106 % (docs/performance.md, "The tracker's
+  // on the plain reference. H12p10 0.425 → 0.107 %, with the reversed step and the retry's
+  // budget below D2's crop at 10 Hz 4.6 → 0.34 % (docs/performance.md, "The tracker's
   // reference dilated"). Setting `tracker.dilated_retry`.
   bool dilated_retry = true;
   // The retry's iterations per level, finest first (DSO's budget: its tracker runs them on
