@@ -25,6 +25,9 @@ namespace omnidso {
 class TrackerReference {
  public:
   using LevelObservations = std::vector<std::vector<TrackingObservation<1>>>;
+  // A level's points in row order, (v, u) → inverse distance: a flat vector, as a reference
+  // is built and dropped with every keyframe and a map's thousands of nodes cost time there.
+  using LevelPoints = std::vector<std::pair<std::pair<int, int>, double>>;
 
   TrackerReference(std::shared_ptr<const ImagePyramid> pyramid, double exposure,
                    const Eigen::Vector2d& affine, const CoarseTrackerOptions& options)
@@ -46,8 +49,9 @@ class TrackerReference {
         cell.first += p.inverse_distance;
         ++cell.second;
       }
-      LevelInverseDistances& merged = level_points_[level];
-      for (const auto& [key, acc] : cells) merged[key] = acc.first / acc.second;
+      LevelPoints& merged = level_points_[level];
+      merged.reserve(cells.size());
+      for (const auto& [key, acc] : cells) merged.emplace_back(key, acc.first / acc.second);
       if (options_.dilate_reference) merged = dilated(merged, level);
       const M<double> level_model = levelModel(model, level);
       for (const auto& [key, d] : merged) {
@@ -95,12 +99,13 @@ class TrackerReference {
  private:
   // One pass of dilation at `level`: the diagonal neighbours on levels 0 and 1, the direct
   // ones from level 2 on (DSO's choice), within the level's content.
-  LevelInverseDistances dilated(const LevelInverseDistances& points, int level) const {
+  LevelPoints dilated(const LevelPoints& points, int level) const {
     const ImageF& image = pyramid_->level(level);
-    return dilateInverseDistances(
-        points, image.width(), image.height(),
+    const LevelInverseDistances out = dilateInverseDistances(
+        LevelInverseDistances(points.begin(), points.end()), image.width(), image.height(),
         level < 2 ? DilationNeighbours::kDiagonal : DilationNeighbours::kDirect,
         pyramid_->content(level));
+    return LevelPoints(out.begin(), out.end());
   }
 
   // The tracking observation of the level pixel `key` = (v, u) at inverse distance d.
@@ -131,7 +136,7 @@ class TrackerReference {
   Eigen::Vector2d affine_;
   const CoarseTrackerOptions& options_;  // the tracker's, which outlives its reference
   LevelObservations observations_;
-  std::vector<LevelInverseDistances> level_points_;  // what observations_ were made from
+  std::vector<LevelPoints> level_points_;  // what observations_ were made from
   std::vector<Eigen::Vector2d> finest_pixels_;
   std::vector<double> finest_inverse_distances_;
   mutable std::mutex dilated_mutex_;
