@@ -220,11 +220,16 @@ struct CoarseTracker::Impl {
         best.valid_fraction = finest.valid_fraction;
         *winning_hypothesis = hypothesis;
       }
-      if (best.ok && std::isfinite(previous_rmse) &&
-          best.rmse < options.good_enough_factor * previous_rmse)
-        break;
+      if (goodEnough(best, previous_rmse)) break;
     }
     return best;
+  }
+
+  // DSO's re-track test: a result below `good_enough_factor` × the previous frame's error
+  // ends the trying (and needs no retry).
+  bool goodEnough(const TrackingResult& result, double previous_rmse) const {
+    return result.ok && std::isfinite(previous_rmse) &&
+           result.rmse < options.good_enough_factor * previous_rmse;
   }
 
   // RMS pixel shifts of the level-0 points under translation only and under the full motion.
@@ -334,9 +339,8 @@ TrackingResult CoarseTracker::track(const ImagePyramid& frame, double exposure,
                                 previous_rmse, plain, &winning_hypothesis);
     // The header's retry on the dilated reference, for a frame no hypothesis tracked well
     // enough: its result is a hypothesis for the plain reference, adopted where it ends lower.
-    const bool good_enough = best.ok && std::isfinite(previous_rmse) &&
-                             best.rmse < impl_->options.good_enough_factor * previous_rmse;
-    if (impl_->options.dilated_retry && std::isfinite(previous_rmse) && !good_enough) {
+    if (impl_->options.dilated_retry && std::isfinite(previous_rmse) &&
+        !impl_->goodEnough(best, previous_rmse)) {
       SE3d ignored;
       const Impl::Pass dilated{impl_->reference->dilatedObservations(model),
                                impl_->options.retry_max_iterations};

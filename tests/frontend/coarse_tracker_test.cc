@@ -28,22 +28,20 @@ class CoarseTrackerTest : public ::testing::TestWithParam<std::string> {};
 // averaged over ~1500 points): well below 1 mm and 0.1° at unit scale — the monocular scale
 // where the points' mean inverse distance is 1, as after initialisation.
 TEST_P(CoarseTrackerTest, RecoversRelativePoseOfRenderedPair) {
-  const Camera camera = GetParam() == "pinhole" ? synth::syntheticCamera("pinhole", 90.0, 320, 240)
-                                                : synth::syntheticCamera(GetParam(), 185.0, 320, 320);
-  const test::RenderedScene scene(camera, 11);
-  const SE3d T_world_ref = scene.centralPose();
+  const test::RenderedReference room(
+      GetParam() == "pinhole" ? synth::syntheticCamera("pinhole", 90.0, 320, 240)
+                              : synth::syntheticCamera(GetParam(), 185.0, 320, 320));
+  const Camera& camera = room.camera;
+  const SE3d& T_world_ref = room.T_world_ref;
+  const std::vector<TrackingReferencePoint>& points = room.points;
   const SE3d T_world_frame = test::moveInCamera(T_world_ref, {0.03, -0.01, 0.02}, {1.0, 2.0, 0.5});
-  auto ref = scene.renderPyramid(T_world_ref);
-  const ImagePyramid frame(scene.render(T_world_frame), 5);
-
-  const std::vector<TrackingReferencePoint> points =
-      referencePoints(camera, scene, T_world_ref, *ref, validityMask(camera));
+  const ImagePyramid frame(room.scene.render(T_world_frame), 5);
   ASSERT_GT(points.size(), 500u);
   double mean_inverse_distance = 0.0;
   for (const auto& p : points) mean_inverse_distance += p.inverse_distance / points.size();
 
   CoarseTracker tracker(camera);
-  tracker.setReference(ref, 1.0, Eigen::Vector2d::Zero(), points);
+  tracker.setReference(room.pyramid, 1.0, Eigen::Vector2d::Zero(), points);
   const TrackingResult result = tracker.track(frame, 1.0, {SE3d()}, Eigen::Vector2d::Zero(),
                                               std::numeric_limits<double>::infinity());
   ASSERT_TRUE(result.ok);
@@ -195,13 +193,10 @@ TEST(CoarseTrackerContent, TargetsOutsideTheImageCircleDoNotHoldBackATurn) {
 // less than 10 % below the start's own, so the gate lets the second start run; the finest
 // level alone from the start stays within 0.01.
 TEST(CoarseTrackerSecondStart, TheFinestLevelOverrulesCoarseLevelsLedAlongTheAxis) {
-  const Camera camera = synth::syntheticCamera("pinhole", 90.0, 320, 240);
-  const test::RenderedScene scene(camera, 11);
-  const SE3d T_world_ref = scene.centralPose();
-  auto ref = scene.renderPyramid(T_world_ref);
-  const std::vector<TrackingReferencePoint> points =
-      referencePoints(camera, scene, T_world_ref, *ref, validityMask(camera));
-  ASSERT_GT(points.size(), 500u);
+  const test::RenderedReference room(synth::syntheticCamera("pinhole", 90.0, 320, 240));
+  const test::RenderedScene& scene = room.scene;
+  const SE3d& T_world_ref = room.T_world_ref;
+  ASSERT_GT(room.points.size(), 500u);
   const SE3d T_world_frame = test::moveInCamera(T_world_ref, {0.0, 0.0, 0.1}, {0.2, 0.3, 0.1});
   const SE3d T_world_further = test::moveInCamera(T_world_ref, {0.0, 0.0, 0.3}, {0.2, 0.3, 0.1});
   const double sigma_px = 4.0;
@@ -215,8 +210,8 @@ TEST(CoarseTrackerSecondStart, TheFinestLevelOverrulesCoarseLevelsLedAlongTheAxi
   auto track = [&](bool second_start) {
     CoarseTrackerOptions options;
     options.finest_level_second_start = second_start;
-    CoarseTracker tracker(camera, options);
-    tracker.setReference(ref, 1.0, Eigen::Vector2d::Zero(), points);
+    CoarseTracker tracker(room.camera, options);
+    tracker.setReference(room.pyramid, 1.0, Eigen::Vector2d::Zero(), room.points);
     const TrackingResult r = tracker.track(frame, 1.0, {truth}, Eigen::Vector2d::Zero(),
                                            std::numeric_limits<double>::infinity());
     EXPECT_TRUE(r.ok);
