@@ -42,6 +42,38 @@ Mask viewAngleMask(const Camera& camera, double fov_deg) {
   return mask;
 }
 
+namespace {
+
+// The black surround of a fisheye's image circle (content_mask.hpp), on the source's grid,
+// from the brightest value of each pixel over the first frames; empty when there are none.
+Mask detectSourceContent(const DatasetIndex& index, const Camera& source) {
+  std::vector<RawImage> first;
+  for (size_t i = 0; i < std::min<size_t>(5, index.frames.size()); ++i)
+    first.push_back(readRawImage(index.frames[i].image_path));
+  std::vector<const ImageU16*> pixels;
+  for (const RawImage& r : first)
+    if (r.pixels.width() == source.width() && r.pixels.height() == source.height())
+      pixels.push_back(&r.pixels);
+  if (pixels.empty()) return Mask();
+  const int full_scale = (1 << first.front().bit_depth) - 1;
+  return detectContentMask(pixels, static_cast<int>(0.02 * full_scale));
+}
+
+// Twice the largest angle from the optical axis over the camera's valid pixels in `within`
+// (every pixel when it is empty).
+double maximumViewAngleDeg(const Camera& camera, const Mask& within) {
+  double widest = 0.0;
+  for (int v = 0; v < camera.height(); ++v)
+    for (int u = 0; u < camera.width(); ++u) {
+      Eigen::Vector3d bearing;
+      if ((within.empty() || within(u, v)) && camera.unproject(Eigen::Vector2d(u, v), bearing))
+        widest = std::max(widest, std::acos(std::clamp(bearing.normalized().z(), -1.0, 1.0)));
+    }
+  return 2.0 * widest * 180.0 / M_PI;
+}
+
+}  // namespace
+
 std::optional<double> parsePinholeCrop(const std::string& text) {
   if (text == "native" || parseNativeFov(text)) return std::nullopt;
   const std::string prefix = "pinhole-crop:";
@@ -103,26 +135,14 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
     rectification = makeRectificationMap(source, camera);
     image_mask = validMask(*rectification);
   }
-  if (options.detect_content && !index.frames.empty()) {
-    // The black surround of a fisheye's image circle (content_mask.hpp), from the brightest
-    // value of each pixel over the first frames, mapped through the rectification if any.
-    std::vector<RawImage> first;
-    for (size_t i = 0; i < std::min<size_t>(5, index.frames.size()); ++i)
-      first.push_back(readRawImage(index.frames[i].image_path));
-    std::vector<const ImageU16*> pixels;
-    for (const RawImage& r : first)
-      if (r.pixels.width() == source.width() && r.pixels.height() == source.height())
-        pixels.push_back(&r.pixels);
-    if (!pixels.empty()) {
-      const int full_scale = (1 << first.front().bit_depth) - 1;
-      source_content = detectContentMask(pixels, static_cast<int>(0.02 * full_scale));
-      Mask content = source_content;
-      if (rectification) content = remap(content, *rectification);  // 0 where any source pixel is 0 nearby
-      if (image_mask.empty()) {
-        image_mask = std::move(content);
-      } else {
-        for (size_t i = 0; i < image_mask.size(); ++i) image_mask.data()[i] &= content.data()[i];
-      }
+  if (options.detect_content) source_content = detectSourceContent(index, source);
+  if (!source_content.empty()) {
+    Mask content = source_content;
+    if (rectification) content = remap(content, *rectification);  // 0 where any source pixel is 0 nearby
+    if (image_mask.empty()) {
+      image_mask = std::move(content);
+    } else {
+      for (size_t i = 0; i < image_mask.size(); ++i) image_mask.data()[i] &= content.data()[i];
     }
   }
   if (const std::optional<double> fov = parseNativeFov(options.camera_model)) {
@@ -201,6 +221,32 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
   run.frames_processed = total;
   run.wall_s = wall.elapsedMs() / 1000.0;
   return run;
+}
+
+double viewWidthDeg(const DatasetIndex& index, const DatasetRunOptions& run) {
+  if (const std::optional<double> crop_fov = parsePinholeCrop(run.camera_model)) {
+    const Camera source = synth::datasetCamera(index, run.calib);
+    return maximumViewAngleDeg(pinholeForFov(*crop_fov, source.width(), source.height()), Mask());
+  }
+  const Camera source = synth::datasetCamera(index, run.calib);
+  const Mask content = run.detect_content ? detectSourceContent(index, source) : Mask();
+  double width = maximumViewAngleDeg(source, content);  // the rays, with any distortion
+  if (const std::optional<double> fov = parseNativeFov(run.camera_model))
+    width = std::min(width, *fov);
+  return width;
+}
+
+std::string applyIntrinsicsPrior(const DatasetIndex& index, const DatasetRunOptions& run,
+                                 OdometryOptions* options) {
+  const double width = viewWidthDeg(index, run);
+  if (width < kSelfCalibratingViewDeg || !options->window.optimize_intrinsics) return "";
+  options->window.intrinsics_prior_weight = 0.0;
+  std::ostringstream note;
+  note << "a view " << std::fixed << std::setprecision(0) << width
+       << "° wide (a hemisphere or more) observes the intrinsics: they are optimised without "
+          "the calibration prior (--set window.intrinsics_prior_weight="
+       << std::defaultfloat << WindowOptions{}.intrinsics_prior_weight << " holds them, as DSO does)";
+  return note.str();
 }
 
 }  // namespace omnidso::cli

@@ -101,6 +101,7 @@ void runOdometry(const RunArguments& args) {
   const std::string photometric_note = applyPhotometricMode(index, &o);  // before the user's
   const std::string pattern_note = applyCropPatternSpread(index, options, &o);  // likewise
   const int crop_pattern_spread = o.pattern_spread;
+  const std::string intrinsics_note = applyIntrinsicsPrior(index, options, &o);  // likewise
   if (!args.config.empty()) applyOdometryConfigFile(o, args.config);
   for (const std::string& s : args.settings) applyOdometrySettingAssignment(o, s);
   refuseToOverwrite(args.out, args.force);  // after every option has been checked
@@ -118,6 +119,9 @@ void runOdometry(const RunArguments& args) {
     std::cerr << "note: " << photometric_note << "\n";
   if (!pattern_note.empty() && o.pattern_spread == crop_pattern_spread)
     std::cerr << "note: " << pattern_note << "\n";
+  if (!intrinsics_note.empty() && o.window.intrinsics_prior_weight == 0.0 &&
+      o.window.optimize_intrinsics)
+    std::cerr << "note: " << intrinsics_note << "\n";
   if (run.vignette_estimate) {
     std::cerr << "note: " << vignetteEstimateNote(*run.vignette_estimate) << "\n";
     if (run.vignette_estimate->valid)

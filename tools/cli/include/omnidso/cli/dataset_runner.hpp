@@ -89,4 +89,30 @@ std::string applyPhotometricMode(const DatasetIndex& index, OdometryOptions* opt
 std::string applyCropPatternSpread(const DatasetIndex& index, const DatasetRunOptions& run,
                                    OdometryOptions* options);
 
+// The view at and beyond which the intrinsics go free (applyIntrinsicsPrior): a hemisphere.
+constexpr double kSelfCalibratingViewDeg = 180.0;
+
+// The widest angle the odometry sees, in degrees: twice the largest angle from the optical
+// axis over the calibration's valid pixels — within the image content detected in the first
+// frames (the black surround of an image circle excluded) and within `native-fov:FOV` — and,
+// for `pinhole-crop:FOV`, the crop's own.
+double viewWidthDeg(const DatasetIndex& index, const DatasetRunOptions& run);
+
+// The calibration prior, chosen by the view. The window optimises the intrinsics jointly
+// (the paper), held near the calibration by DSO's prior (WindowOptions::
+// intrinsics_prior_weight). A view of a hemisphere or more observes them: a shift of the
+// principal point is no longer a turn of every camera, nor a change of focal length a motion
+// along the axis, once rays across the whole hemisphere are in the image. There the prior goes
+// (weight 0) and the intrinsics correct the calibration's errors: on the development set's
+// 190° images, started 0.5 % / 0.7 px off, they end within 0.2 % and 0.3 px of the truth and
+// the keyframe ATE at its calibrated level (0.087 → 0.021 %; held, D1 drifted by +12 %); with
+// an exact calibration the ATE stays as it was on the development set's mean (0.019 %) and
+// doubles on the project's own renders (0.004 → 0.010 %). On narrower views the free
+// intrinsics wander — a 90° pinhole's focal length by −15 % on forward motion, a crop's by
+// 0.7 % — so they keep the prior; a crop's intrinsics are exact by construction anyway
+// (docs/performance.md, "The calibration's errors: free intrinsics on a hemisphere").
+// Call before the user's settings, which override it. Returns a note, or "" when unchanged.
+std::string applyIntrinsicsPrior(const DatasetIndex& index, const DatasetRunOptions& run,
+                                 OdometryOptions* options);
+
 }  // namespace omnidso::cli
