@@ -8,7 +8,6 @@
 #include <fstream>
 #include <string>
 
-#include <omnidso/cameras/calibration_io.hpp>
 #include <omnidso/cli/dataset_runner.hpp>
 #include <omnidso/core/dataset.hpp>
 #include <omnidso/core/image_io.hpp>

@@ -224,11 +224,9 @@ DatasetRun runOdometryOnDataset(const DatasetIndex& index, const DatasetRunOptio
 }
 
 double viewWidthDeg(const DatasetIndex& index, const DatasetRunOptions& run) {
-  if (const std::optional<double> crop_fov = parsePinholeCrop(run.camera_model)) {
-    const Camera source = synth::datasetCamera(index, run.calib);
-    return maximumViewAngleDeg(pinholeForFov(*crop_fov, source.width(), source.height()), Mask());
-  }
   const Camera source = synth::datasetCamera(index, run.calib);
+  if (const std::optional<double> crop_fov = parsePinholeCrop(run.camera_model))
+    return maximumViewAngleDeg(pinholeForFov(*crop_fov, source.width(), source.height()), Mask());
   const Mask content = run.detect_content ? detectSourceContent(index, source) : Mask();
   double width = maximumViewAngleDeg(source, content);  // the rays, with any distortion
   if (const std::optional<double> fov = parseNativeFov(run.camera_model))
