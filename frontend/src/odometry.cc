@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <omnidso/backend/outlier_threshold.hpp>
+#include <omnidso/backend/photometric_factory.hpp>
 #include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/timing.hpp>
@@ -12,6 +13,10 @@
 #include "odometry_impl.hpp"
 
 namespace omnidso {
+
+int defaultContentMarginPx(int pattern_spread) {
+  return patternRadius<kWindowPatternSize>() * pattern_spread + 1;
+}
 
 Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
     : camera(c),
@@ -38,13 +43,6 @@ Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
     content_levels = std::make_shared<const std::vector<Mask>>(
         contentPyramid(mask, options.pyramid_levels));
   options.tracker.num_levels = std::min(options.tracker.num_levels, options.pyramid_levels);
-  // Keep every pyramid level clear of the content's edge (content_mask.hpp): a level-L
-  // sample and its central differences reach 2^L pixels of level 0, the pattern 2 more.
-  if (options.content_margin_px < 0)
-    options.content_margin_px = (1 << options.pyramid_levels) + 3;
-  mask = erodeContent(mask, options.content_margin_px);
-  content_area = static_cast<double>(std::count_if(
-      mask.data(), mask.data() + mask.size(), [](std::uint8_t m) { return m != 0; }));
   if (options.epipolar.max_search_px <= 0)
     options.epipolar.max_search_px = 0.027 * (camera.width() + camera.height());
   // One camera encoding for residuals and selection (`selection.camera_encoding` reads it).
@@ -55,6 +53,11 @@ Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)
                 std::to_string(options.pattern_spread) + ")");
   options.window.pattern_spread = options.pattern_spread;
   options.initializer.pattern_spread = options.pattern_spread;
+  if (options.content_margin_px < 0)
+    options.content_margin_px = defaultContentMarginPx(options.pattern_spread);
+  mask = erodeContent(mask, options.content_margin_px);
+  content_area = static_cast<double>(std::count_if(
+      mask.data(), mask.data() + mask.size(), [](std::uint8_t m) { return m != 0; }));
   // The search's interval half-width σ + e |c| / a (epipolar_search.hpp) must be positive.
   if (!(options.epipolar.match_sigma_px > 0.0) || !(options.epipolar.curve_offset_px >= 0.0))
     throw Error("Odometry: epipolar.match_sigma_px must be > 0 and epipolar.curve_offset_px >= 0 "

@@ -188,7 +188,7 @@ void assign(const Setting& s, const std::string& value) {
 
 // No setting of the table is meaningfully negative (counts, weights, tolerances, sizes in
 // pixels) except the two whose "automatic" value is below the range: pyramid_levels 0 (the
-// depth from the image size) and content_margin_px −1 (from the pyramid depth). A negative
+// depth from the image size) and content_margin_px −1 (from the pattern). A negative
 // count would size a vector or a loop wrongly instead of being refused.
 double lowestValue(const std::string& name) {
   if (name == "content_margin_px") return -1.0;

@@ -41,8 +41,8 @@ struct OdometryOptions {
   // the camera's image size (core/pyramid.hpp), which also caps tracker.num_levels.
   int pyramid_levels = 0;
   // Pixels this close to a pixel without content (outside the camera's domain or the image
-  // mask, e.g. the black surround of a fisheye's image circle) are not used; −1: 2^levels + 3,
-  // the reach of the coarsest level (core/content_mask.hpp says why).
+  // mask, e.g. the black surround of a fisheye's image circle) are not selected; −1:
+  // defaultContentMarginPx(pattern_spread), below.
   int content_margin_px = -1;
   // Target samples (tracking, initialisation, window, epipolar search, activation) whose
   // bilinear footprint touches a pixel without content on their pyramid level are invalid,
@@ -145,6 +145,18 @@ struct OdometryPoint {
   float intensity = 0.f;
   int segment = 0;
 };
+
+// What content_margin_px = −1 stands for: the margin hostPatchFits (photometric_residual.hpp)
+// keeps from the image's border — DSO's pattern on steps of `pattern_spread` pixels and the
+// central differences of the host's gradients, pattern radius × spread + 1 — kept from the
+// content's edge as well, so that no level-0 host sample touches the black surround. The
+// coarse levels' host samples near the edge do average some of it in; their targets are
+// checked against each level's content, so the fixed edge is never compared with itself.
+// The margin was 2^levels + 3 (19 px on a 480-pixel image), the coarsest level's reach: on a
+// 120° image circle of 106 px radius it took a fifth of the radius from selection, and 7 runs
+// in 40 lost their scale in a fast turn, none with this margin (docs/performance.md, "A 120°
+// image circle in a fast turn").
+int defaultContentMarginPx(int pattern_spread);
 
 class Odometry {
  public:
