@@ -15,7 +15,7 @@
 namespace omnidso {
 
 int defaultContentMarginPx(int pattern_spread) {
-  return patternRadius<kWindowPatternSize>() * pattern_spread + 1;
+  return hostPatchReachPx<kWindowPatternSize>(pattern_spread);
 }
 
 Odometry::Impl::Impl(const Camera& c, OdometryOptions o, const Mask& image_mask)

@@ -147,11 +147,12 @@ struct OdometryPoint {
 };
 
 // What content_margin_px = −1 stands for: the margin hostPatchFits (photometric_residual.hpp)
-// keeps from the image's border — DSO's pattern on steps of `pattern_spread` pixels and the
-// central differences of the host's gradients, pattern radius × spread + 1 — kept from the
-// content's edge as well, so that no level-0 host sample touches the black surround. The
-// coarse levels' host samples near the edge do average some of it in; their targets are
-// checked against each level's content, so the fixed edge is never compared with itself.
+// keeps from the image's border, hostPatchReachPx — DSO's pattern on steps of
+// `pattern_spread` pixels and the central differences of the host's gradients, pattern
+// radius × spread + 1 — kept from the content's edge as well, so that no level-0 host sample
+// touches the black surround. The coarse levels' host samples near the edge do average some
+// of it in; their targets are checked against each level's content, so the fixed edge is
+// never compared with itself.
 // The margin was 2^levels + 3 (19 px on a 480-pixel image), the coarsest level's reach: on a
 // 120° image circle of 106 px radius it took a fifth of the radius from selection, and 7 runs
 // in 40 lost their scale in a fast turn, none with this margin (docs/performance.md, "A 120°

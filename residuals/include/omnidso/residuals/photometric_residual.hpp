@@ -110,11 +110,18 @@ HostPatch<N> makeHostPatch(const ImageF& host_image, const ImageGradients& host_
                            double gradient_weight_c = kDsoGradientWeightC,
                            const ImageF* encoding_slope = nullptr, int spread = 1);
 
+// How far a host patch reaches from its pixel: the pattern on steps of `spread` pixels and one
+// more for the bilinear footprint (the central differences of the host's gradients).
+template <int N>
+constexpr int hostPatchReachPx(int spread = 1) {
+  return patternRadius<N>() * spread + 1;
+}
+
 // Whether the pattern, on steps of `spread` pixels, around `pixel` (pixels of `image`), with the
 // bilinear footprint, lies inside the image: the condition makeHostPatch needs.
 template <int N>
 bool hostPatchFits(const ImageF& image, const Eigen::Vector2d& pixel, int spread = 1) {
-  const double margin = patternRadius<N>() * spread + 1.0;
+  const double margin = hostPatchReachPx<N>(spread);
   return pixel.x() >= margin && pixel.y() >= margin && pixel.x() <= image.width() - 1 - margin &&
          pixel.y() <= image.height() - 1 - margin;
 }
