@@ -1,7 +1,10 @@
-// The ASL layout of EuRoC and TUM VI: mav0/cam0/data.csv + mav0/cam0/data/*.png.
+// The ASL layout of EuRoC and TUM VI: mav0/cam0/data.csv + mav0/cam0/data/*.png, and TUM VI's
+// DSO files in dso/ (calibration, response, vignette, exposure times).
+#include <algorithm>
 #include <charconv>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include <fmt/format.h>
 
@@ -11,6 +14,48 @@
 
 namespace omnidso::dataset_detail {
 namespace fs = std::filesystem;
+
+namespace {
+
+// TUM VI records each frame's exposure in the DSO files beside mav0/: dso/cam0/times.txt,
+// lines `ID_NS TIMESTAMP_S EXPOSURE_MS`, ID the image's file name without extension. Taken
+// only when it covers every listed frame: frames without one would be read at exposure 1,
+// a brightness model with a silently wrong gain (a warning says why they were not taken).
+void readDsoExposures(const std::string& times_path, LayoutIndex* layout) {
+  std::ifstream times(times_path);
+  if (!times) return;
+  std::map<std::string, double> exposure_by_id;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(times, line)) {
+    ++line_number;
+    const std::vector<std::string> fields = splitFields(line);
+    if (fields.empty() || fields[0][0] == '#') continue;
+    if (fields.size() < 2 || fields.size() > 3) {
+      throw fileError(times_path, line_number,
+                      fmt::format("expected 'ID TIMESTAMP_S [EXPOSURE_MS]', got {} fields",
+                                  fields.size()));
+    }
+    if (fields.size() == 2) continue;  // no exposure for this frame
+    const double exposure = parseNumber(fields[2], times_path, line_number, "exposure");
+    if (exposure <= 0) throw fileError(times_path, line_number, "exposure time is not positive");
+    exposure_by_id[fields[0]] = exposure;
+  }
+  if (exposure_by_id.empty()) return;  // a file without the exposure column
+  std::vector<DatasetFrame>& frames = layout->index.frames;
+  const auto uncovered = std::count_if(frames.begin(), frames.end(), [&](const DatasetFrame& f) {
+    return exposure_by_id.count(f.id) == 0;
+  });
+  if (uncovered > 0) {
+    layout->index.warnings.push_back(fmt::format(
+        "{}: exposure times not used: {} of the {} frames of mav0/cam0/data.csv have none there",
+        times_path, uncovered, frames.size()));
+    return;
+  }
+  for (DatasetFrame& frame : frames) frame.exposure_ms = exposure_by_id.at(frame.id);
+}
+
+}  // namespace
 
 LayoutIndex readAslIndex(const std::string& root_path) {
   const fs::path root(root_path);
@@ -48,7 +93,7 @@ LayoutIndex readAslIndex(const std::string& root_path) {
     }
     frame.timestamp_s = static_cast<double>(ns / 1000000000LL) +
                         static_cast<double>(ns % 1000000000LL) * 1e-9;
-    frame.exposure_ms = 0.0;  // unknown: the ASL layout does not record it
+    frame.exposure_ms = 0.0;  // unknown unless TUM VI's dso/cam0/times.txt gives it
     frame.id = fs::path(fields[1]).stem().string();
     const fs::path image = cam_dir / "data" / fields[1];
     frame.image_path = image.string();
@@ -68,7 +113,8 @@ LayoutIndex readAslIndex(const std::string& root_path) {
                                 root / "camera.txt", root / "dso" / "camera.txt"}) {
     if (fs::is_regular_file(extra)) index.calibration_paths.push_back(extra.string());
   }
-  for (const fs::path& photometric : {root / "pcalib.txt", root / "dso" / "pcalib.txt"}) {
+  for (const fs::path& photometric :
+       {root / "pcalib.txt", root / "dso" / "cam0" / "pcalib.txt", root / "dso" / "pcalib.txt"}) {
     if (!index.pcalib_path && fs::is_regular_file(photometric)) {
       index.pcalib_path = photometric.string();
     }
@@ -79,6 +125,7 @@ LayoutIndex readAslIndex(const std::string& root_path) {
       index.vignette_path = vignette.string();
     }
   }
+  readDsoExposures((root / "dso" / "cam0" / "times.txt").string(), &layout);
   for (const fs::path& gt : {root / "mav0" / "state_groundtruth_estimate0" / "data.csv",
                              root / "mav0" / "mocap0" / "data.csv"}) {
     if (fs::is_regular_file(gt)) {

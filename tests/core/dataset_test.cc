@@ -247,6 +247,54 @@ TEST(DatasetTest, ReadsAslLayoutWithNanosecondTimestamps) {
   EXPECT_NE(openError(tmp.path()).find("data.csv:2: image"), std::string::npos);
 }
 
+// TUM VI's ASL sequences carry DSO files in dso/: its response and vignette in dso/cam0/,
+// and each frame's exposure in dso/cam0/times.txt, which the ASL index does not have.
+TEST(DatasetTest, TakesTumViExposuresAndResponseFromItsDsoFolder) {
+  TempDir tmp("tumvi");
+  const fs::path cam = tmp.path() / "mav0" / "cam0";
+  const fs::path dso = tmp.path() / "dso" / "cam0";
+  fs::create_directories(cam / "data");
+  fs::create_directories(dso);
+  writeGreyImage(cam / "data" / "1520530308199447626.png", 8, 6, 1);
+  writeGreyImage(cam / "data" / "1520530308249448626.png", 8, 6, 2);
+  writeText(cam / "data.csv",
+            "#timestamp [ns],filename\n"
+            "1520530308199447626,1520530308199447626.png\n"
+            "1520530308249448626,1520530308249448626.png\n");
+  writeText(dso / "pcalib.txt", "0 1 2\n");
+  const std::string both =
+      "# timestamp [ns] timestamp [s] exposure [ms]\n"
+      "1520530308199447626 1520530308.199447626 1.443\n"
+      "1520530308249448626 1520530308.249448626 1.5\n";
+  writeText(dso / "times.txt", both);
+  DatasetIndex index = openDataset(tmp.path().string());
+  ASSERT_EQ(index.frames.size(), 2u);
+  EXPECT_EQ(index.frames[0].exposure_ms, 1.443);
+  EXPECT_EQ(index.frames[1].exposure_ms, 1.5);
+  ASSERT_TRUE(index.pcalib_path.has_value());
+  EXPECT_EQ(fs::path(*index.pcalib_path), dso / "pcalib.txt");
+  EXPECT_TRUE(index.warnings.empty());
+
+  // A file that misses a frame gives none: the other frame would be read at exposure 1.
+  writeText(dso / "times.txt", "1520530308199447626 1520530308.199447626 1.443\n");
+  index = openDataset(tmp.path().string());
+  EXPECT_EQ(index.frames[0].exposure_ms, 0.0);
+  EXPECT_EQ(index.frames[1].exposure_ms, 0.0);
+  ASSERT_EQ(index.warnings.size(), 1u);
+  EXPECT_NE(index.warnings[0].find("1 of the 2 frames"), std::string::npos) << index.warnings[0];
+
+  // Without the exposure column there is nothing to take, and nothing to warn about.
+  writeText(dso / "times.txt", "1520530308199447626 1520530308.199447626\n");
+  index = openDataset(tmp.path().string());
+  EXPECT_EQ(index.frames[0].exposure_ms, 0.0);
+  EXPECT_TRUE(index.warnings.empty());
+
+  writeText(dso / "times.txt", "1520530308199447626 1520530308.2 -1\n");
+  EXPECT_NE(openError(tmp.path()).find("times.txt:1: exposure time is not positive"),
+            std::string::npos)
+      << openError(tmp.path());
+}
+
 TEST(DatasetTest, ReadsEurocStaticClip) {
   const auto dir = test::sharedDataDir("euroc_v101_static_clip");
   if (!dir) GTEST_SKIP() << test::missingDataMessage("euroc_v101_static_clip");

@@ -35,6 +35,7 @@ nlohmann::json optionalPath(const std::optional<std::string>& path) {
 
 nlohmann::json datasetInfo(const DatasetInfoArguments& args) {
   const DatasetIndex index = openDataset(args.path);
+  for (const std::string& warning : index.warnings) std::cerr << "warning: " << warning << "\n";
   verifyDatasetImages(index, args.decode);
   const Camera camera = synth::datasetCamera(index, args.calib);
   const FieldOfView fov = fieldOfView(camera);

@@ -11,7 +11,10 @@
 //   DIR/mav0/state_groundtruth_estimate0/data.csv (or mav0/mocap0/data.csv). The camera
 //   pose is T_world_body · T_BS; T_BS is in sensor.yaml, which the cameras library reads,
 //   so that composition lives outside core (omnidso::synth::cameraGroundTruth).
-// The ASL layout records no exposure time: exposure_ms is 0, meaning "unknown".
+//   TUM VI adds its DSO files beside mav0/: dso/camchain.yaml, dso/cam0/pcalib.txt,
+//   dso/cam0/vignette.png, and exposure times in dso/cam0/times.txt (`ID_NS TIMESTAMP_S
+//   EXPOSURE_MS`), taken when they cover every frame.
+// Otherwise the ASL layout records no exposure time: exposure_ms is 0, meaning "unknown".
 //
 // Core does not parse calibration files (that needs omnidso::cameras): the index gives
 // their paths. Bad datasets throw omnidso::Error naming the file and the line.
@@ -41,7 +44,7 @@ struct DatasetFrame {
   std::string id;          // image file name without extension, as written in the index
   std::string image_path;  // absolute or relative to the working directory
   double timestamp_s = 0;
-  double exposure_ms = 0;  // 0 = unknown (ASL records none)
+  double exposure_ms = 0;  // 0 = unknown (EuRoC's ASL records none)
   std::string index_file;  // times.txt or data.csv, and the line of this frame in it,
   int index_line = 0;      // so that errors about the image can point at both
 };
