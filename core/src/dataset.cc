@@ -44,6 +44,25 @@ double parseNumber(const std::string& text, const std::string& file, int line,
   throw fileError(file, line, fmt::format("{} '{}' is not a number", what, text));
 }
 
+std::optional<TimesLine> parseTimesLine(const std::string& line, const std::string& file,
+                                        int line_number) {
+  const std::vector<std::string> fields = splitFields(line);
+  if (fields.empty() || fields[0][0] == '#') return std::nullopt;
+  if (fields.size() < 2 || fields.size() > 3) {
+    throw fileError(file, line_number,
+                    fmt::format("expected 'ID TIMESTAMP_S [EXPOSURE_MS]', got {} fields",
+                                fields.size()));
+  }
+  TimesLine parsed;
+  parsed.id = fields[0];
+  parsed.timestamp_s = parseNumber(fields[1], file, line_number, "timestamp");
+  if (fields.size() == 3) {
+    parsed.exposure_ms = parseNumber(fields[2], file, line_number, "exposure");
+    if (parsed.exposure_ms < 0) throw fileError(file, line_number, "exposure time is negative");
+  }
+  return parsed;
+}
+
 namespace {
 
 // "a.png (line 3), b.png (line 4), … and 7 more": enough to find them, short enough to read.

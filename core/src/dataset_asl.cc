@@ -29,17 +29,9 @@ void readDsoExposures(const std::string& times_path, LayoutIndex* layout) {
   int line_number = 0;
   while (std::getline(times, line)) {
     ++line_number;
-    const std::vector<std::string> fields = splitFields(line);
-    if (fields.empty() || fields[0][0] == '#') continue;
-    if (fields.size() < 2 || fields.size() > 3) {
-      throw fileError(times_path, line_number,
-                      fmt::format("expected 'ID TIMESTAMP_S [EXPOSURE_MS]', got {} fields",
-                                  fields.size()));
-    }
-    if (fields.size() == 2) continue;  // no exposure for this frame
-    const double exposure = parseNumber(fields[2], times_path, line_number, "exposure");
-    if (exposure <= 0) throw fileError(times_path, line_number, "exposure time is not positive");
-    exposure_by_id[fields[0]] = exposure;
+    const std::optional<TimesLine> parsed = parseTimesLine(line, times_path, line_number);
+    if (!parsed || parsed->exposure_ms == 0) continue;  // no exposure for this frame
+    exposure_by_id[parsed->id] = parsed->exposure_ms;
   }
   if (exposure_by_id.empty()) return;  // a file without the exposure column
   std::vector<DatasetFrame>& frames = layout->index.frames;

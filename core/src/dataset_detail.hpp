@@ -3,6 +3,7 @@
 
 #include <omnidso/core/dataset.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,5 +29,17 @@ std::vector<std::string> splitFields(const std::string& line);
 // Parses a number; throws fileError(file, line, ...) naming the field when it is not one.
 double parseNumber(const std::string& text, const std::string& file, int line,
                    const std::string& what);
+
+// One line of DSO's times.txt, `ID TIMESTAMP_S [EXPOSURE_MS]` (the TUM layout's index, and
+// TUM VI's dso/cam0/times.txt). exposure_ms is 0 when the column is absent.
+struct TimesLine {
+  std::string id;
+  double timestamp_s = 0;
+  double exposure_ms = 0;
+};
+// nullopt for blank and '#' comment lines; throws fileError(file, line, ...) for a wrong
+// field count, a field that is not a number, or a negative exposure.
+std::optional<TimesLine> parseTimesLine(const std::string& line, const std::string& file,
+                                        int line_number);
 
 }  // namespace omnidso::dataset_detail

@@ -61,22 +61,12 @@ LayoutIndex readTumIndex(const std::string& root_path) {
   int line_number = 0;
   while (std::getline(times, line)) {
     ++line_number;
-    const std::vector<std::string> fields = splitFields(line);
-    if (fields.empty() || fields[0][0] == '#') continue;
-    if (fields.size() < 2 || fields.size() > 3) {
-      throw fileError(times_path, line_number,
-                      fmt::format("expected 'ID TIMESTAMP_S [EXPOSURE_MS]', got {} fields",
-                                  fields.size()));
-    }
+    const std::optional<TimesLine> parsed = parseTimesLine(line, times_path, line_number);
+    if (!parsed) continue;
     DatasetFrame frame;
-    frame.id = fields[0];
-    frame.timestamp_s = parseNumber(fields[1], times_path, line_number, "timestamp");
-    if (fields.size() == 3) {
-      frame.exposure_ms = parseNumber(fields[2], times_path, line_number, "exposure");
-      if (frame.exposure_ms < 0) {
-        throw fileError(times_path, line_number, "exposure time is negative");
-      }
-    }
+    frame.id = parsed->id;
+    frame.timestamp_s = parsed->timestamp_s;
+    frame.exposure_ms = parsed->exposure_ms;
     frame.index_file = times_path;
     frame.index_line = line_number;
     const auto image = images.find(frame.id);
