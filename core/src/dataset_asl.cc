@@ -21,9 +21,13 @@ namespace {
 // lines `ID_NS TIMESTAMP_S EXPOSURE_MS`, ID the image's file name without extension. Taken
 // only when it covers every listed frame: frames without one would be read at exposure 1,
 // a brightness model with a silently wrong gain (a warning says why they were not taken).
-void readDsoExposures(const std::string& times_path, LayoutIndex* layout) {
+void readDsoExposures(const fs::path& path, LayoutIndex* layout) {
+  // fs::exists throws on a symbolic-link loop (openDataset reports it); a file that is there
+  // but cannot be read is an error too, not a silent run without exposure times.
+  if (!fs::exists(path)) return;
+  const std::string times_path = path.string();
   std::ifstream times(times_path);
-  if (!times) return;
+  if (!times) throw fileError(times_path, "cannot open exposure times file");
   std::map<std::string, double> exposure_by_id;
   std::string line;
   int line_number = 0;
@@ -117,7 +121,7 @@ LayoutIndex readAslIndex(const std::string& root_path) {
       index.vignette_path = vignette.string();
     }
   }
-  readDsoExposures((root / "dso" / "cam0" / "times.txt").string(), &layout);
+  readDsoExposures(root / "dso" / "cam0" / "times.txt", &layout);
   for (const fs::path& gt : {root / "mav0" / "state_groundtruth_estimate0" / "data.csv",
                              root / "mav0" / "mocap0" / "data.csv"}) {
     if (fs::is_regular_file(gt)) {

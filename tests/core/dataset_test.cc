@@ -293,6 +293,11 @@ TEST(DatasetTest, TakesTumViExposuresAndResponseFromItsDsoFolder) {
   EXPECT_NE(openError(tmp.path()).find("times.txt:1: exposure time is negative"),
             std::string::npos)
       << openError(tmp.path());
+
+  // A times.txt that cannot be read is reported, not passed over.
+  fs::remove(dso / "times.txt");
+  fs::create_symlink("times.txt", dso / "times.txt");  // a loop
+  EXPECT_NE(openError(tmp.path()).find("times.txt"), std::string::npos) << openError(tmp.path());
 }
 
 TEST(DatasetTest, ReadsEurocStaticClip) {
