@@ -178,6 +178,21 @@ Camera cameraFromKalibrFields(const FieldReader& f, const std::string& coeffs_ke
   }
 }
 
+// A row-major 4×4 matrix that must be a rigid transformation (EuRoC's T_BS, Kalibr's
+// T_cam_imu). Published extrinsics carry ~1e-9 rounding; 1e-6 rejects anything that is not a
+// rotation.
+SE3d rigidTransform(const FieldReader& f, const std::string& key,
+                    const std::vector<double>& row_major) {
+  const Eigen::Matrix4d T =
+      Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(row_major.data());
+  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.determinant() < 0.0 ||
+      (T.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9) {
+    throw f.error(key, "not a rigid transformation");
+  }
+  return SE3d(R, T.topRightCorner<3, 1>());
+}
+
 void requireMap(const YAML::Node& root, const std::string& path) {
   if (!root.IsMap()) throw fileError(path, "expected a YAML mapping of calibration fields");
 }
@@ -203,14 +218,27 @@ SensorCalibration loadEurocSensor(const std::string& path) {
   const FieldReader t(path, f.map("T_BS"), "T_BS.");
   const std::vector<double> data = t.numbers("data");
   t.requireCount("data", data, 16, "(a row-major 4x4 matrix)");
-  Eigen::Matrix4d T = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(data.data());
-  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
-  // Published extrinsics carry ~1e-9 rounding; 1e-6 rejects anything that is not a rotation.
-  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.determinant() < 0.0 ||
-      (T.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9) {
-    throw t.error("data", "not a rigid transformation");
+  return {std::move(camera), rigidTransform(t, "data", data)};
+}
+
+std::optional<SE3d> loadKalibrCamImu(const std::string& path) {
+  const YAML::Node root = detail::readYamlFile(path);
+  requireMap(root, path);
+  const bool nested = static_cast<bool>(root["cam0"]);
+  if (nested && !root["cam0"].IsMap()) throw fieldError(path, "cam0", "expected a mapping");
+  const FieldReader f(path, nested ? root["cam0"] : root, nested ? "cam0." : "");
+  if (!f.has("T_cam_imu")) return std::nullopt;
+  const YAML::Node rows = f.node("T_cam_imu");
+  if (!rows.IsSequence() || rows.size() != 4) {
+    throw f.error("T_cam_imu", "expected four rows of four numbers");
   }
-  return {std::move(camera), SE3d(R, T.topRightCorner<3, 1>())};
+  std::vector<double> data;
+  for (size_t i = 0; i < 4; ++i) {
+    const std::vector<double> row = f.numbersOf(rows[i], "T_cam_imu");
+    f.requireCount("T_cam_imu", row, 4, "in row " + std::to_string(i));
+    data.insert(data.end(), row.begin(), row.end());
+  }
+  return rigidTransform(f, "T_cam_imu", data);
 }
 
 void saveKalibr(const std::string& path, const Camera& camera) {

@@ -123,7 +123,7 @@ LayoutIndex readAslIndex(const std::string& root_path) {
   }
   readDsoExposures(root / "dso" / "cam0" / "times.txt", &layout);
   for (const fs::path& gt : {root / "mav0" / "state_groundtruth_estimate0" / "data.csv",
-                             root / "mav0" / "mocap0" / "data.csv"}) {
+                             root / "mav0" / "mocap0" / "data.csv", root / "dso" / "gt_imu.csv"}) {
     if (fs::is_regular_file(gt)) {
       index.groundtruth_path = gt.string();
       index.groundtruth_kind = GroundTruthKind::kBodyAsl;

@@ -40,6 +40,13 @@ void addIfExists(const fs::path& file, std::optional<std::string>& out) {
   if (fs::is_regular_file(file)) out = file.string();
 }
 
+// The folder holding `dir` ("a/dso" for "a/dso/cam0" or "a/dso/cam0/").
+fs::path containingFolder(const fs::path& dir) {
+  fs::path normal = fs::absolute(dir).lexically_normal();
+  if (!normal.has_filename()) normal = normal.parent_path();  // a trailing separator
+  return normal.parent_path();
+}
+
 }  // namespace
 
 LayoutIndex readTumIndex(const std::string& root_path) {
@@ -88,7 +95,17 @@ LayoutIndex readTumIndex(const std::string& root_path) {
   addIfExists(root / "pcalib.txt", index.pcalib_path);
   addIfExists(root / "vignette.png", index.vignette_path);
   addIfExists(root / "groundtruth.txt", index.groundtruth_path);
-  if (index.groundtruth_path) index.groundtruth_kind = GroundTruthKind::kCameraTum;
+  if (index.groundtruth_path) {
+    index.groundtruth_kind = GroundTruthKind::kCameraTum;
+  } else if (const fs::path dso = containingFolder(root);
+             dso.filename() == "dso" && fs::is_regular_file(dso / "gt_imu.csv")) {
+    // TUM VI's DSO folder, dso/cam0: the IMU's poses in dso/gt_imu.csv (ASL columns), the
+    // camera–IMU extrinsics in dso/camchain.yaml (added after this folder's own calibration).
+    index.groundtruth_path = (dso / "gt_imu.csv").string();
+    index.groundtruth_kind = GroundTruthKind::kBodyAsl;
+    if (fs::is_regular_file(dso / "camchain.yaml"))
+      index.calibration_paths.push_back((dso / "camchain.yaml").string());
+  }
   return layout;
 }
 

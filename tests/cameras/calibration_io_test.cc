@@ -229,5 +229,50 @@ TEST_F(CalibrationIoTest, ReadsEurocSensorYaml) {
   EXPECT_EQ(loadCalibration(file).modelName(), "pinhole-radtan");
 }
 
+// Kalibr's camera–IMU extrinsics (TUM VI's dso/camchain.yaml carries them beside cam0's model).
+TEST_F(CalibrationIoTest, ReadsKalibrCameraImuExtrinsics) {
+  const std::string model =
+      "  camera_model: pinhole\n  intrinsics: [190.0, 190.0, 255.5, 255.5]\n"
+      "  distortion_model: equidistant\n  distortion_coeffs: [0.003, 0.0007, -0.002, 0.0002]\n"
+      "  resolution: [512, 512]\n";
+  // A quarter turn about z and an offset, as rows.
+  const std::string file = write(
+      "camchain_imu.yaml", "cam0:\n" + model +
+                               "  T_cam_imu:\n  - [0.0, -1.0, 0.0, 0.04]\n"
+                               "  - [1.0, 0.0, 0.0, -0.07]\n  - [0.0, 0.0, 1.0, -0.045]\n"
+                               "  - [0.0, 0.0, 0.0, 1.0]\n");
+  const std::optional<SE3d> cam_imu = loadKalibrCamImu(file);
+  ASSERT_TRUE(cam_imu.has_value());
+  EXPECT_EQ(cam_imu->translation(), Eigen::Vector3d(0.04, -0.07, -0.045));
+  Eigen::Matrix3d quarter_turn;
+  quarter_turn << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  EXPECT_LT((cam_imu->rotationMatrix() - quarter_turn).norm(), 1e-15);
+  EXPECT_EQ(loadCalibration(file).modelName(), "kb4");  // the model reads as before
+
+  // No extrinsics: nothing, and no error.
+  EXPECT_FALSE(loadKalibrCamImu(write("camchain_plain.yaml", "cam0:\n" + model)).has_value());
+
+  auto error = [&](const std::string& rows) {
+    try {
+      loadKalibrCamImu(write("camchain_bad.yaml", "cam0:\n" + model + "  T_cam_imu:\n" + rows));
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const std::string last = "  - [0.0, 0.0, 0.0, 1.0]\n";
+  // A scaled rotation is not rigid.
+  EXPECT_NE(error("  - [2.0, 0.0, 0.0, 0.0]\n  - [0.0, 1.0, 0.0, 0.0]\n"
+                  "  - [0.0, 0.0, 1.0, 0.0]\n" + last)
+                .find("field 'cam0.T_cam_imu': not a rigid transformation"),
+            std::string::npos);
+  EXPECT_NE(error("  - [1.0, 0.0, 0.0]\n  - [0.0, 1.0, 0.0, 0.0]\n  - [0.0, 0.0, 1.0, 0.0]\n" +
+                  last)
+                .find("field 'cam0.T_cam_imu': expected 4 values in row 0"),
+            std::string::npos);
+  EXPECT_NE(error("  - [1.0, 0.0, 0.0, 0.0]\n" + last).find("four rows of four numbers"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace omnidso

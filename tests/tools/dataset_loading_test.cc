@@ -89,5 +89,72 @@ TEST(DatasetLoadingTest, DatasetWithoutGroundTruthSaysSo) {
   EXPECT_THROW(cameraGroundTruth(index), Error);
 }
 
+// TUM VI's files as its DSO users point at them: DIR = dso/cam0 (TUM layout) with the IMU's
+// ground truth in dso/gt_imu.csv and the camera–IMU extrinsics in dso/camchain.yaml; and the
+// same sequence from its root (ASL layout) without a sensor.yaml.
+TEST(DatasetLoadingTest, TumViGroundTruthTakesTheExtrinsicsFromItsCamchain) {
+  test::TempDir tmp("tumvi_gt");
+  const fs::path dso = tmp.path() / "dso";
+  const fs::path cam = dso / "cam0";
+  fs::create_directories(cam / "images");
+  for (const char* stamp : {"1000000000", "1050000000"}) {
+    cv::imwrite((cam / "images" / (std::string(stamp) + ".png")).string(),
+                cv::Mat(24, 32, CV_8UC1, cv::Scalar(9)));
+  }
+  std::ofstream(cam / "times.txt") << "1000000000 1.0 2.0\n1050000000 1.05 2.0\n";
+  std::ofstream(cam / "camera.txt") << "Pinhole 20 20 15.5 11.5 0\n32 24\nnone\n32 24\n";
+  // x_cam = T_cam_imu x_imu: a quarter turn about z and an offset.
+  std::ofstream(dso / "camchain.yaml")
+      << "cam0:\n  camera_model: pinhole\n  intrinsics: [20.0, 20.0, 15.5, 11.5]\n"
+         "  distortion_model: none\n  distortion_coeffs: []\n  resolution: [32, 24]\n"
+         "  T_cam_imu:\n  - [0.0, -1.0, 0.0, 0.1]\n  - [1.0, 0.0, 0.0, 0.2]\n"
+         "  - [0.0, 0.0, 1.0, 0.3]\n  - [0.0, 0.0, 0.0, 1.0]\n";
+  std::ofstream(dso / "gt_imu.csv")
+      << "# timestamp[ns],tx,ty,tz,qw,qx,qy,qz\n"
+         "1000000000,1.0,2.0,3.0,1.0,0.0,0.0,0.0\n"
+         "1050000000,1.5,2.0,3.0,0.70710678118654752,0.70710678118654752,0.0,0.0\n";
+  Eigen::Matrix3d r_ci;
+  r_ci << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  const SE3d imu_to_cam = SE3d(r_ci, Eigen::Vector3d(0.1, 0.2, 0.3)).inverse();  // T_imu_cam
+  const SE3d imu1(Eigen::Quaterniond(std::sqrt(0.5), std::sqrt(0.5), 0, 0),
+                  Eigen::Vector3d(1.5, 2.0, 3.0));
+
+  for (const std::string& dir : {cam.string(), cam.string() + "/"}) {
+    const DatasetIndex index = openDataset(dir);
+    ASSERT_EQ(index.groundtruth_kind, GroundTruthKind::kBodyAsl) << dir;
+    EXPECT_EQ(fs::path(*index.groundtruth_path), dso / "gt_imu.csv");
+    EXPECT_EQ(datasetCamera(index).modelName(), "pinhole");  // camera.txt stays first
+    const Trajectory cameras = cameraGroundTruth(index);
+    ASSERT_EQ(cameras.size(), 2u);
+    // T_world_cam = T_world_imu · T_cam_imu⁻¹ (17-digit numbers in the file: 1e-12).
+    EXPECT_LT((cameras[1].pose.matrix() - (imu1 * imu_to_cam).matrix()).norm(), 1e-12);
+  }
+
+  // From the root: frames from mav0/cam0, the same ground truth through the same extrinsics.
+  writeAslDataset(tmp.path(), 32);
+  fs::remove_all(tmp.path() / "mav0" / "state_groundtruth_estimate0");
+  fs::remove(tmp.path() / "mav0" / "cam0" / "sensor.yaml");
+  DatasetIndex index = openDataset(tmp.str());
+  ASSERT_EQ(index.groundtruth_kind, GroundTruthKind::kBodyAsl);
+  EXPECT_EQ(fs::path(bodyToCamera(index).source), dso / "camchain.yaml");
+  EXPECT_LT((cameraGroundTruth(index)[1].pose.matrix() - (imu1 * imu_to_cam).matrix()).norm(),
+            1e-12);
+
+  // Without extrinsics anywhere the body's poses are not the camera's: an error, not a guess.
+  std::ofstream(dso / "camchain.yaml")
+      << "cam0:\n  camera_model: pinhole\n  intrinsics: [20.0, 20.0, 15.5, 11.5]\n"
+         "  resolution: [32, 24]\n";
+  index = openDataset(tmp.str());
+  try {
+    cameraGroundTruth(index);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("gt_imu.csv: body-frame ground truth needs the camera's "
+                                         "extrinsics"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace omnidso::synth

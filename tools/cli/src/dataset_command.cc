@@ -84,8 +84,10 @@ nlohmann::json datasetInfo(const DatasetInfoArguments& args) {
       {"ground_truth",
        {{"present", ground_truth.has_value()},
         {"path", optionalPath(index.groundtruth_path)},
-        {"frame", index.groundtruth_kind == GroundTruthKind::kBodyAsl ? "body (composed with T_BS)"
-                                                                      : "camera"},
+        {"frame", index.groundtruth_kind == GroundTruthKind::kBodyAsl
+                      ? "body, composed with the extrinsics in " +
+                            synth::bodyToCamera(index).source
+                      : std::string("camera")},
         {"poses", ground_truth ? ground_truth->size() : 0}}},
   };
   return info;

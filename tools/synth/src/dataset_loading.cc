@@ -30,22 +30,28 @@ Camera datasetCamera(const DatasetIndex& index, const std::string& override_path
   return camera;
 }
 
+BodyToCamera bodyToCamera(const DatasetIndex& index) {
+  for (const std::string& path : index.calibration_paths) {
+    if (std::filesystem::path(path).filename() == "sensor.yaml")
+      return {loadEurocSensor(path).T_body_sensor, path};
+  }
+  for (const std::string& path : index.calibration_paths) {
+    if (detectCalibrationFormat(path) != CalibrationFormat::kKalibr) continue;
+    if (const std::optional<SE3d> cam_imu = loadKalibrCamImu(path))
+      return {cam_imu->inverse(), path};
+  }
+  throw fileError(index.groundtruth_path.value_or(index.root),
+                  "body-frame ground truth needs the camera's extrinsics: T_BS in "
+                  "mav0/cam0/sensor.yaml or T_cam_imu in a Kalibr camchain.yaml; neither found");
+}
+
 Trajectory cameraGroundTruth(const DatasetIndex& index) {
   if (!index.groundtruth_path) throw fileError(index.root, "dataset has no ground truth");
   if (index.groundtruth_kind == GroundTruthKind::kCameraTum) {
     return readTrajectoryTum(*index.groundtruth_path);
   }
   Trajectory body = readTrajectory(*index.groundtruth_path, TrajectoryFormat::kEuroc);
-  std::string sensor_path;
-  for (const std::string& path : index.calibration_paths) {
-    if (std::filesystem::path(path).filename() == "sensor.yaml") sensor_path = path;
-  }
-  if (sensor_path.empty()) {
-    throw fileError(*index.groundtruth_path,
-                    "body-frame ground truth needs T_BS from mav0/cam0/sensor.yaml, which is "
-                    "missing");
-  }
-  const SE3d body_to_camera = loadEurocSensor(sensor_path).T_body_sensor;
+  const SE3d body_to_camera = bodyToCamera(index).T_body_camera;
   for (StampedPose& pose : body) pose.pose = pose.pose * body_to_camera;
   return body;
 }

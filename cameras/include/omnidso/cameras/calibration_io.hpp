@@ -33,7 +33,12 @@
 // radial-tangential (or none), distortion_coefficients [k1, k2, p1, p2], resolution [w, h],
 // T_BS {rows: 4, cols: 4, data: 16 numbers, row-major} = T_body_sensor. The first line
 // `%YAML:1.0` (OpenCV style, not valid YAML) is skipped.
+//
+// Kalibr's camera–IMU extrinsics: `T_cam_imu`, four rows of four numbers, maps IMU-frame
+// coordinates into the camera frame (x_cam = T_cam_imu · x_imu), so T_body_sensor =
+// T_cam_imu⁻¹ with the IMU as the body. TUM VI ships them in `dso/camchain.yaml`.
 
+#include <optional>
 #include <string>
 
 #include "omnidso/cameras/camera.hpp"
@@ -59,6 +64,9 @@ struct SensorCalibration {
   SE3d T_body_sensor;
 };
 SensorCalibration loadEurocSensor(const std::string& path);
+// cam0's T_cam_imu of a Kalibr file; nullopt when the file has none. Throws for a matrix that
+// is not 4×4 numbers or not a rigid transformation.
+std::optional<SE3d> loadKalibrCamImu(const std::string& path);
 
 // Writes `cam0:` with camera_model, intrinsics, distortion_model, distortion_coeffs,
 // resolution. Every model of CameraModelVariant has a Kalibr form.

@@ -5,12 +5,15 @@
 // - TUM mono / omni: DIR/times.txt (lines `ID TIMESTAMP_S [EXPOSURE_MS]`, '#' comments),
 //   DIR/images/ID.png|.jpg (ID of any width: the file name without extension), calibration
 //   DIR/camchain.yaml (Kalibr) and/or DIR/camera.txt (DSO), optional DIR/pcalib.txt,
-//   DIR/vignette.png and DIR/groundtruth.txt (TUM format, T_world_cam).
+//   DIR/vignette.png and DIR/groundtruth.txt (TUM format, T_world_cam). Without it, TUM VI's
+//   DSO folder (DIR = …/dso/cam0) takes the IMU's poses from …/dso/gt_imu.csv (ASL columns)
+//   and lists …/dso/camchain.yaml (its T_cam_imu) after DIR's own calibration.
 // - ASL (EuRoC, TUM VI): DIR/mav0/cam0/data.csv (`#timestamp [ns],filename`),
 //   DIR/mav0/cam0/data/*.png, DIR/mav0/cam0/sensor.yaml, and ground truth of the BODY in
-//   DIR/mav0/state_groundtruth_estimate0/data.csv (or mav0/mocap0/data.csv). The camera
-//   pose is T_world_body · T_BS; T_BS is in sensor.yaml, which the cameras library reads,
-//   so that composition lives outside core (omnidso::synth::cameraGroundTruth).
+//   DIR/mav0/state_groundtruth_estimate0/data.csv (or mav0/mocap0/data.csv, or TUM VI's
+//   dso/gt_imu.csv). The camera pose is T_world_body · T_BS; T_BS is in sensor.yaml (or,
+//   as T_cam_imu⁻¹, in a Kalibr camchain), which the cameras library reads, so that
+//   composition lives outside core (omnidso::synth::cameraGroundTruth).
 //   TUM VI adds its DSO files beside mav0/: dso/camchain.yaml, dso/cam0/pcalib.txt,
 //   dso/cam0/vignette.png, and exposure times in dso/cam0/times.txt (`ID_NS TIMESTAMP_S
 //   EXPOSURE_MS`), taken when they cover every frame.

@@ -1,12 +1,13 @@
 #pragma once
 // What a dataset index (omnidso/core/dataset.hpp) leaves to libraries above core: the
 // camera from its calibration file, and the ground truth as camera poses. These need the
-// cameras library (T_BS of EuRoC's sensor.yaml), which core must not depend on.
+// cameras library (EuRoC's T_BS, Kalibr's T_cam_imu), which core must not depend on.
 
 #include <string>
 
 #include <omnidso/cameras/camera.hpp>
 #include <omnidso/core/dataset.hpp>
+#include <omnidso/core/se3.hpp>
 #include <omnidso/core/trajectory.hpp>
 
 namespace omnidso::synth {
@@ -16,9 +17,20 @@ namespace omnidso::synth {
 // when the file is bad (unknown model, ...), or when its resolution differs from the images.
 Camera datasetCamera(const DatasetIndex& index, const std::string& override_path = "");
 
-// Ground truth as T_world_cam: TUM groundtruth.txt as stored; ASL body poses composed with
-// the camera's extrinsics, T_world_cam = T_world_body · T_BS (T_BS from sensor.yaml).
-// Throws omnidso::Error if the dataset has no ground truth.
+// The camera's pose in the body whose poses an ASL ground truth holds: EuRoC's T_BS from
+// mav0/cam0/sensor.yaml, else T_cam_imu⁻¹ from the first Kalibr camchain among the dataset's
+// calibration files that has it (TUM VI: dso/camchain.yaml, with the IMU as the body).
+// `source` is the file it came from. Throws omnidso::Error when there is neither.
+struct BodyToCamera {
+  SE3d T_body_camera;
+  std::string source;
+};
+BodyToCamera bodyToCamera(const DatasetIndex& index);
+
+// Ground truth as T_world_cam: TUM groundtruth.txt as stored; body poses (ASL csv, TUM VI's
+// gt_imu.csv) composed with the camera's extrinsics (bodyToCamera), T_world_cam =
+// T_world_body · T_BS. Throws omnidso::Error if the dataset has no ground truth, or body poses
+// and no extrinsics.
 Trajectory cameraGroundTruth(const DatasetIndex& index);
 
 }  // namespace omnidso::synth
