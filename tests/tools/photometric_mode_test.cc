@@ -1,14 +1,17 @@
 // The photometric model chosen by the data (cli::applyPhotometricMode): with every frame's
 // exposure time the window ties each keyframe's affine brightness to 0; without them the gain
-// goes free (auto-exposure is what the affine model must explain) and the offset stays tied,
-// and the user's settings still win.
+// goes free (auto-exposure is what the affine model must explain) and the offset stays tied.
+// And the window's solve chosen by the view's width (cli::applyViewProfile). The user's
+// settings still win.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 #include <omnidso/cli/dataset_runner.hpp>
 #include <omnidso/cli/process_pool.hpp>
@@ -190,6 +193,73 @@ TEST(CropPatternSpread, FollowsTheCropsMagnification) {
   EXPECT_EQ(applyCropPatternSpread(index, run, &options), "");
   EXPECT_EQ(options.pattern_spread, 1);
   fs::remove_all(dir);
+}
+
+// A narrow view with exposure times solves its window on central differences with three
+// iterations; from 120° on (a fisheye masked to `native-fov:120` reads exactly that), and
+// without exposure times, the defaults stay. The widths themselves are viewWidthDeg's
+// (intrinsics_prior_rule_test.cc).
+TEST(ViewProfile, OnlyANarrowViewWithExposureTimesChangesTheWindow) {
+  const OdometryOptions defaults;
+  auto expectDefaults = [&](double width_deg, bool exposure_times) {
+    OdometryOptions options;
+    EXPECT_EQ(applyViewProfile(width_deg, exposure_times, &options), "") << width_deg;
+    EXPECT_EQ(options.window.central_difference_gradients,
+              defaults.window.central_difference_gradients);
+    EXPECT_EQ(options.window.max_iterations, defaults.window.max_iterations);
+  };
+  expectDefaults(kNarrowViewBelowDeg, true);
+  expectDefaults(221.0, true);
+  expectDefaults(109.47, false);
+  OdometryOptions narrow;
+  const std::string note = applyViewProfile(109.47, true, &narrow);
+  EXPECT_TRUE(narrow.window.central_difference_gradients);
+  EXPECT_EQ(narrow.window.max_iterations, 3);
+  EXPECT_NE(note.find("109.5° across its widest, under 120°"), std::string::npos) << note;
+  EXPECT_NE(note.find("--set window.max_iterations=" +
+                      std::to_string(defaults.window.max_iterations)),
+            std::string::npos)
+      << note;
+  // Nothing else of the window, the tracker or activation moves.
+  EXPECT_FALSE(narrow.tracker.central_difference_gradients);
+  EXPECT_FALSE(narrow.activation.central_difference_gradients);
+  EXPECT_EQ(narrow.window.max_keyframes, defaults.window.max_keyframes);
+  EXPECT_EQ(narrow.window.intrinsics_prior_weight, defaults.window.intrinsics_prior_weight);
+}
+
+// As `omnidso run` applies it: summary.json records the view, the crop's window takes the
+// narrow view's solve, and the user's setting wins (and silences the note).
+TEST(ViewProfile, RunRecordsTheViewAndTheUsersSettingWins) {
+  test::TempDir tmp("view_profile_run");
+  const fs::path data = tmp.path() / "data";
+  synth::SyntheticSequence sequence(test::smallSequenceConfig(3));
+  synth::writeSyntheticDataset(sequence, data.string());
+  auto run = [&](const std::string& name, std::vector<std::string> extra) {
+    const auto [summary, output] = runOmnidso(data, tmp.path(), name, extra);
+    return std::make_tuple(summary.at("settings").at("view"), summary.at("settings").at("odometry"),
+                           output);
+  };
+  const auto [fisheye_view, fisheye, fisheye_log] = run("fisheye", {});
+  EXPECT_FALSE(fisheye_view.at("narrow").get<bool>());
+  EXPECT_FALSE(fisheye_view.at("narrow_view_window").get<bool>());
+  EXPECT_GT(fisheye_view.at("width_deg").get<double>(), 180.0);
+  EXPECT_FALSE(fisheye.at("window.central_difference_gradients").get<bool>());
+  EXPECT_EQ(fisheye.at("window.max_iterations").get<int>(), WindowOptions{}.max_iterations);
+  EXPECT_EQ(fisheye_log.find("narrow view"), std::string::npos) << fisheye_log;
+  const auto [crop_view, crop, crop_log] = run("crop", {"--camera-model", "pinhole-crop:90"});
+  EXPECT_TRUE(crop_view.at("narrow").get<bool>());
+  EXPECT_TRUE(crop_view.at("narrow_view_window").get<bool>());  // the render has exposure times
+  // The 96-pixel crop's corner pixel centres, 47.5 px from the centre at f = 48.
+  EXPECT_NEAR(crop_view.at("width_deg").get<double>(),
+              2.0 * std::atan(std::sqrt(2.0) * 47.5 / 48.0) * 180.0 / M_PI, 0.05);
+  EXPECT_TRUE(crop.at("window.central_difference_gradients").get<bool>());
+  EXPECT_EQ(crop.at("window.max_iterations").get<int>(), 3);
+  EXPECT_NE(crop_log.find("narrow view"), std::string::npos) << crop_log;
+  const auto [set_view, set, set_log] =
+      run("set", {"--camera-model", "pinhole-crop:90", "--set", "window.max_iterations=2"});
+  EXPECT_EQ(set.at("window.max_iterations").get<int>(), 2);
+  EXPECT_TRUE(set.at("window.central_difference_gradients").get<bool>());
+  EXPECT_EQ(set_log.find("narrow view"), std::string::npos) << set_log;
 }
 
 }  // namespace

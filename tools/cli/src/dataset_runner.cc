@@ -236,7 +236,10 @@ double viewWidthDeg(const DatasetIndex& index, const DatasetRunOptions& run) {
 
 std::string applyIntrinsicsPrior(const DatasetIndex& index, const DatasetRunOptions& run,
                                  OdometryOptions* options) {
-  const double width = viewWidthDeg(index, run);
+  return applyIntrinsicsPrior(viewWidthDeg(index, run), options);
+}
+
+std::string applyIntrinsicsPrior(double width, OdometryOptions* options) {
   if (width < kSelfCalibratingViewDeg || !options->window.optimize_intrinsics) return "";
   options->window.intrinsics_prior_weight = 0.0;
   std::ostringstream note;
@@ -244,6 +247,23 @@ std::string applyIntrinsicsPrior(const DatasetIndex& index, const DatasetRunOpti
        << "° wide (a hemisphere or more) observes the intrinsics: they are optimised without "
           "the calibration prior (--set window.intrinsics_prior_weight="
        << std::defaultfloat << WindowOptions{}.intrinsics_prior_weight << " holds them, as DSO does)";
+  return note.str();
+}
+
+std::string applyViewProfile(double view_width_deg, bool exposure_times_known,
+                             OdometryOptions* options) {
+  if (view_width_deg >= kNarrowViewBelowDeg || !exposure_times_known) return "";
+  const WindowOptions wide;
+  options->window.central_difference_gradients = true;
+  options->window.max_iterations = 3;
+  std::ostringstream note;
+  note << "a narrow view (" << std::fixed << std::setprecision(1) << view_width_deg
+       << "° across its widest, under " << std::setprecision(0) << kNarrowViewBelowDeg
+       << "°) with exposure times: the window solves on central-difference image gradients with "
+       << options->window.max_iterations
+       << " iterations, as DSO (--set window.central_difference_gradients="
+       << (wide.central_difference_gradients ? "true" : "false")
+       << " --set window.max_iterations=" << wide.max_iterations << " for a wide view's)";
   return note.str();
 }
 

@@ -101,7 +101,11 @@ void runOdometry(const RunArguments& args) {
   const std::string photometric_note = applyPhotometricMode(index, &o);  // before the user's
   const std::string pattern_note = applyCropPatternSpread(index, options, &o);  // likewise
   const int crop_pattern_spread = o.pattern_spread;
-  const std::string intrinsics_note = applyIntrinsicsPrior(index, options, &o);  // likewise
+  const double view_width_deg = viewWidthDeg(index, options);
+  const std::string intrinsics_note = applyIntrinsicsPrior(view_width_deg, &o);  // likewise
+  const std::string view_note =
+      applyViewProfile(view_width_deg, exposureTimesKnown(index), &o);  // likewise
+  const WindowOptions profile_window = o.window;
   if (!args.config.empty()) applyOdometryConfigFile(o, args.config);
   for (const std::string& s : args.settings) applyOdometrySettingAssignment(o, s);
   refuseToOverwrite(args.out, args.force);  // after every option has been checked
@@ -122,6 +126,10 @@ void runOdometry(const RunArguments& args) {
   if (!intrinsics_note.empty() && o.window.intrinsics_prior_weight == 0.0 &&
       o.window.optimize_intrinsics)
     std::cerr << "note: " << intrinsics_note << "\n";
+  if (!view_note.empty() &&
+      o.window.central_difference_gradients == profile_window.central_difference_gradients &&
+      o.window.max_iterations == profile_window.max_iterations)
+    std::cerr << "note: " << view_note << "\n";
   if (run.vignette_estimate) {
     std::cerr << "note: " << vignetteEstimateNote(*run.vignette_estimate) << "\n";
     if (run.vignette_estimate->valid)
@@ -145,6 +153,9 @@ void runOdometry(const RunArguments& args) {
   description.frames_processed = total;
   description.wall_s = run.wall_s;
   description.settings = odometrySettingsJson(o);
+  description.view = {{"width_deg", view_width_deg},
+                      {"narrow", view_width_deg < kNarrowViewBelowDeg},
+                      {"narrow_view_window", !view_note.empty()}};
   if (run.vignette_estimate) description.vignette_estimate = vignetteEstimateJson(*run.vignette_estimate);
   const nlohmann::json summary =
       writeRunOutputs(out.path(), index, ground_truth, odometry, description, points);

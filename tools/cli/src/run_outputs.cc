@@ -129,7 +129,8 @@ nlohmann::json writeRunOutputs(const std::string& out_dir, const DatasetIndex& i
                    {"threads", d.threads},
                    {"compute_threads", d.compute_threads},
                    {"residuals", d.residuals},
-                   {"odometry", d.settings}};
+                   {"odometry", d.settings},
+                   {"view", d.view}};
   // What the photometric model had to work with (dataset_runner.hpp, applyPhotometricMode):
   // the calibration files used (null: absent) and whether every frame had an exposure time.
   auto pathOrNull = [](const std::optional<std::string>& p) {

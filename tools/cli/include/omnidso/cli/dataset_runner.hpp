@@ -114,5 +114,31 @@ double viewWidthDeg(const DatasetIndex& index, const DatasetRunOptions& run);
 // Call before the user's settings, which override it. Returns a note, or "" when unchanged.
 std::string applyIntrinsicsPrior(const DatasetIndex& index, const DatasetRunOptions& run,
                                  OdometryOptions* options);
+// The same for a width already measured (viewWidthDeg).
+std::string applyIntrinsicsPrior(double view_width_deg, OdometryOptions* options);
+
+// Below this the view is narrow (applyViewProfile): a 90° pinhole reaches 109.5° at its
+// corners, every fisheye measured here 180° and more. At 120° (`native-fov:120`, a fisheye
+// masked to a 120° cone) and at 135.6° (`pinhole-crop:120`'s corners) the narrow view's window
+// no longer gained (docs/performance.md, "A narrow view's window by the view's width").
+constexpr double kNarrowViewBelowDeg = 120.0;
+
+// The window's solve, chosen by the view and the photometric data. A narrow view with every
+// frame's exposure time solves its window on DSO's image gradient (central differences blended
+// bilinearly, `window.central_difference_gradients`) with three iterations per keyframe
+// (`window.max_iterations`), as DSO, which is made for such views, does. Measured side by side
+// (docs/performance.md, "The narrow view's window again"; medians of seeds): a hand-held 90°
+// pinhole render 0.098 → 0.040 % (scale drift −8.4 → −1.1 %), the same at 10 Hz 0.091 → 0.042 %
+// — from 2.5–4× the original DSO's error to 1.1–1.8× —, the development set's 90° crops 0.077 →
+// 0.068 %, the own presets' 0.180 → 0.140 %; forward motion through a 90° pinhole loses (0.116 →
+// 0.183 %, still 3× ahead of the original DSO; at 10 Hz 0.042 → 0.048 %). Without exposure times
+// the pair loses (the development set's crops 0.067 → 0.077 %, D3 0.100 → 0.135 % in every seed,
+// where the original DSO reads 0.06 %; three iterations alone 0.146 %): there, and on any view of
+// 120° or more (the full fisheye image loses with it: D4, own presets A and C), the window keeps
+// the interpolant's own gradient and two iterations. Mapping costs 40–50 % more per keyframe
+// where it applies. Call before the user's settings, which override it. Returns a note when it
+// changed the options, else "".
+std::string applyViewProfile(double view_width_deg, bool exposure_times_known,
+                             OdometryOptions* options);
 
 }  // namespace omnidso::cli
