@@ -196,8 +196,8 @@ TEST(CropPatternSpread, FollowsTheCropsMagnification) {
 }
 
 // A narrow view with exposure times solves its window on central differences with three
-// iterations; from 120° on (a fisheye masked to `native-fov:120` reads exactly that), and
-// without exposure times, the defaults stay. The widths themselves are viewWidthDeg's
+// iterations; from 115° on (a 120° lens's image circle reads 119.98°), and without exposure
+// times, the defaults stay. The widths themselves are viewWidthDeg's
 // (intrinsics_prior_rule_test.cc).
 TEST(ViewProfile, OnlyANarrowViewWithExposureTimesChangesTheWindow) {
   const OdometryOptions defaults;
@@ -209,13 +209,14 @@ TEST(ViewProfile, OnlyANarrowViewWithExposureTimesChangesTheWindow) {
     EXPECT_EQ(options.window.max_iterations, defaults.window.max_iterations);
   };
   expectDefaults(kNarrowViewBelowDeg, true);
+  expectDefaults(119.98, true);
   expectDefaults(221.0, true);
   expectDefaults(109.47, false);
   OdometryOptions narrow;
   const std::string note = applyViewProfile(109.47, true, &narrow);
   EXPECT_TRUE(narrow.window.central_difference_gradients);
   EXPECT_EQ(narrow.window.max_iterations, 3);
-  EXPECT_NE(note.find("109.5° across its widest, under 120°"), std::string::npos) << note;
+  EXPECT_NE(note.find("109.5° across its widest, under 115°"), std::string::npos) << note;
   EXPECT_NE(note.find("--set window.max_iterations=" +
                       std::to_string(defaults.window.max_iterations)),
             std::string::npos)

@@ -118,10 +118,12 @@ std::string applyIntrinsicsPrior(const DatasetIndex& index, const DatasetRunOpti
 std::string applyIntrinsicsPrior(double view_width_deg, OdometryOptions* options);
 
 // Below this the view is narrow (applyViewProfile): a 90° pinhole reaches 109.5° at its
-// corners, every fisheye measured here 180° and more. At 120° (`native-fov:120`, a fisheye
-// masked to a 120° cone) and at 135.6° (`pinhole-crop:120`'s corners) the narrow view's window
-// no longer gained (docs/performance.md, "A narrow view's window by the view's width").
-constexpr double kNarrowViewBelowDeg = 120.0;
+// corners (EuRoC's camera 107.7°), where the narrow view's window gained; at 120°
+// (`native-fov:120`, a fisheye masked to a 120° cone, and a 120° lens's image circle, which
+// reads 119.98° over its content) it lost, at 135.6° (`pinhole-crop:120`'s corners) it was
+// even (docs/performance.md, "A narrow view's window by the view's width"). The threshold lies
+// between the evidence, not on either side of it.
+constexpr double kNarrowViewBelowDeg = 115.0;
 
 // The window's solve, chosen by the view and the photometric data. A narrow view with every
 // frame's exposure time solves its window on DSO's image gradient (central differences blended
@@ -133,9 +135,9 @@ constexpr double kNarrowViewBelowDeg = 120.0;
 // 0.068 %, the own presets' 0.180 → 0.140 %; forward motion through a 90° pinhole loses (0.116 →
 // 0.183 %, still 3× ahead of the original DSO; at 10 Hz 0.042 → 0.048 %). Without exposure times
 // the pair loses (the development set's crops 0.067 → 0.077 %, D3 0.100 → 0.135 % in every seed,
-// where the original DSO reads 0.06 %; three iterations alone 0.146 %): there, and on any view of
-// 120° or more (the full fisheye image loses with it: D4, own presets A and C), the window keeps
-// the interpolant's own gradient and two iterations. Mapping costs 40–50 % more per keyframe
+// where the original DSO reads 0.06 %; three iterations alone 0.146 %): there, and on wider
+// views (the full fisheye image loses with it: D4, own presets A and C; a 120° image circle
+// too), the window keeps the interpolant's own gradient and two iterations. Mapping costs 40–50 % more per keyframe
 // where it applies. Call before the user's settings, which override it. Returns a note when it
 // changed the options, else "".
 std::string applyViewProfile(double view_width_deg, bool exposure_times_known,
