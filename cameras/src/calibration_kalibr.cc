@@ -197,16 +197,19 @@ void requireMap(const YAML::Node& root, const std::string& path) {
   if (!root.IsMap()) throw fileError(path, "expected a YAML mapping of calibration fields");
 }
 
+// cam0's fields of a Kalibr file: under `cam0:` (a camchain) or at the top (one camera).
+FieldReader kalibrCam0Fields(const std::string& path) {
+  const YAML::Node root = detail::readYamlFile(path);
+  requireMap(root, path);
+  if (!root["cam0"]) return FieldReader(path, root, "");
+  if (!root["cam0"].IsMap()) throw fieldError(path, "cam0", "expected a mapping");
+  return FieldReader(path, root["cam0"], "cam0.");
+}
+
 }  // namespace
 
 Camera loadKalibr(const std::string& path) {
-  const YAML::Node root = detail::readYamlFile(path);
-  requireMap(root, path);
-  if (root["cam0"]) {
-    if (!root["cam0"].IsMap()) throw fieldError(path, "cam0", "expected a mapping");
-    return cameraFromKalibrFields(FieldReader(path, root["cam0"], "cam0."), "distortion_coeffs");
-  }
-  return cameraFromKalibrFields(FieldReader(path, root, ""), "distortion_coeffs");
+  return cameraFromKalibrFields(kalibrCam0Fields(path), "distortion_coeffs");
 }
 
 SensorCalibration loadEurocSensor(const std::string& path) {
@@ -222,11 +225,7 @@ SensorCalibration loadEurocSensor(const std::string& path) {
 }
 
 std::optional<SE3d> loadKalibrCamImu(const std::string& path) {
-  const YAML::Node root = detail::readYamlFile(path);
-  requireMap(root, path);
-  const bool nested = static_cast<bool>(root["cam0"]);
-  if (nested && !root["cam0"].IsMap()) throw fieldError(path, "cam0", "expected a mapping");
-  const FieldReader f(path, nested ? root["cam0"] : root, nested ? "cam0." : "");
+  const FieldReader f = kalibrCam0Fields(path);
   if (!f.has("T_cam_imu")) return std::nullopt;
   const YAML::Node rows = f.node("T_cam_imu");
   if (!rows.IsSequence() || rows.size() != 4) {
