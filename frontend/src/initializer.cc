@@ -194,7 +194,7 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
   auto enough = [&] {
     return parallax.px >= min_parallax && parallax.deg >= o.min_parallax_deg;
   };
-  if (!snapped_before && enough()) {
+  if (!snapped_before && parallax.px >= min_parallax && parallax.deg >= snapParallaxDeg(o)) {
     impl_->snapped_at = impl_->frames_tried;
     rmse = impl_->solveAtSnap(levels, frame, exposure, &valid);
     parallax = impl_->parallax(valid);
@@ -203,6 +203,7 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
   result.parallax_px = parallax.px;
   result.parallax_deg = parallax.deg;
   result.rmse = rmse;
+  result.snapped_at = impl_->snapped_at;
   std::ostringstream status;
   status << "after " << impl_->frames_tried << " frames: parallax " << parallax.px << " px of the "
          << min_parallax << " px needed, triangulation angle " << parallax.deg << "° of the "

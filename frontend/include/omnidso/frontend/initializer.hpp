@@ -89,6 +89,11 @@ struct InitializerOptions {
   // hovering near its start: 19; room185: 3), the full image as accurate or more so.
   // 0: pixels only.
   double min_parallax_deg = 5.0;
+  // The snap's own triangulation angle: the translation is freed (and the distances loosened)
+  // once the pixel criterion and this angle are met; the initialiser accepts only once
+  // min_parallax_deg is met as well, refining the snapped problem frame after frame until
+  // then. −1: min_parallax_deg (snap and acceptance on the same frame).
+  double snap_parallax_deg = -1.0;
   double max_rmse = 15.0;              // intensity units per residual pixel
   int min_points = 50;
   int max_frames = 60;                 // give up (and restart from a newer frame) after this
@@ -129,7 +134,13 @@ struct InitializationResult {
   double parallax_px = 0.0;
   double parallax_deg = 0.0;  // RMS triangulation angle (min_parallax_deg)
   double rmse = 0.0;
+  int snapped_at = -1;        // frames after the first when it snapped; −1 not yet
 };
+
+// The triangulation angle at which the initialiser snaps (InitializerOptions::snap_parallax_deg).
+inline double snapParallaxDeg(const InitializerOptions& o) {
+  return o.snap_parallax_deg < 0 ? o.min_parallax_deg : o.snap_parallax_deg;
+}
 
 class Initializer {
  public:
