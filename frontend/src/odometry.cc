@@ -113,12 +113,24 @@ void Odometry::Impl::retirePoint(const OdometryPoint& point) {
     points.push_back(point);
 }
 
-Odometry::Odometry(const Camera& camera, OdometryOptions options, const Mask& image_mask)
-    : impl_(std::make_unique<Impl>(camera, std::move(options), image_mask)) {
+Odometry::Odometry(const Camera& camera, OdometryOptions options, const Mask& image_mask) {
   if (camera.hasDistortion())
     throw Error("Odometry: camera model '" + camera.modelName() +
                 "' has distortion; rectify the images to '" +
                 camera.undistortedModel().modelName() + "' first");
+  if (options.race.keyframes < 2 || options.race.keyframes > options.window.max_keyframes ||
+      !(options.race.switch_gain > 0.0) || options.race.max_frames < 1)
+    throw Error("Odometry: race.keyframes must lie in 2 … window.max_keyframes, "
+                "race.switch_gain be > 0 and race.max_frames ≥ 1 (got " +
+                std::to_string(options.race.keyframes) + ", " +
+                std::to_string(options.race.switch_gain) + ", " +
+                std::to_string(options.race.max_frames) + ")");
+  if (raceApplies(options)) {
+    OdometryOptions rival = options;
+    rival.initializer.snap_parallax_deg = options.race.rival_snap_parallax_deg;
+    rival_ = std::make_unique<Impl>(camera, std::move(rival), image_mask);
+  }
+  impl_ = std::make_unique<Impl>(camera, std::move(options), image_mask);
 }
 
 Odometry::~Odometry() = default;
@@ -131,25 +143,35 @@ const FrameRecord& Odometry::addFrame(const ImageF& image, double timestamp, dou
                 std::to_string(s.camera.width()) + "x" + std::to_string(s.camera.height()));
   if (!(exposure > 0.0) || !std::isfinite(exposure))
     throw Error("Odometry::addFrame: exposure must be positive (got " + std::to_string(exposure) + ")");
-  FrameRecord record;
-  record.index = static_cast<int>(s.frames.size());
-  record.timestamp = timestamp;
-  record.segment = s.segment;
-  s.frames.push_back(record);
-  FrameRecord& current = s.frames.back();
   auto pyramid =
       std::make_shared<const ImagePyramid>(image, s.options.pyramid_levels, s.content_levels,
                                            s.options.noise_in_encoding
                                                ? s.options.camera_encoding
                                                : nullptr);
+  impl_->addFrame(pyramid, timestamp, exposure);
+  if (rival_) {
+    rival_->addFrame(pyramid, timestamp, exposure);
+    settleRace();
+  }
+  return impl_->frames.back();
+}
+
+FrameRecord& Odometry::Impl::addFrame(std::shared_ptr<const ImagePyramid> pyramid,
+                                      double timestamp, double exposure) {
+  FrameRecord record;
+  record.index = static_cast<int>(frames.size());
+  record.timestamp = timestamp;
+  record.segment = segment;
+  frames.push_back(record);
+  FrameRecord& current = frames.back();
   Stopwatch watch;
-  if (!s.initialized) {
-    s.initialize(current, pyramid, exposure);
+  if (!initialized) {
+    initialize(current, pyramid, exposure);
     current.timing.mapping_ms = watch.elapsedMs();
   } else {
-    s.trackFrame(current, pyramid, exposure);
+    trackFrame(current, pyramid, exposure);
   }
-  current.segment = current.tracked ? current.segment : s.segment;
+  current.segment = current.tracked ? current.segment : segment;
   return current;
 }
 

@@ -9,7 +9,8 @@
 //   odometry_mapping.cc         the mapping side: epipolar search (step 3), then for a
 //                               keyframe the window, outliers, marginalisation (step 5);
 //   odometry_activation.cc      converged candidates → window points (occupancy grid,
-//                               refinement against the window's keyframes).
+//                               refinement against the window's keyframes);
+//   odometry_race.cc            the first segment's start raced against a rival's.
 // Tracking and mapping are two threads in the real-time mode: they share only the
 // published tracking reference (under reference_mutex) and the frame records (a deque,
 // so records stay put); everything else belongs to one side.
@@ -30,6 +31,10 @@
 #include <vector>
 
 namespace omnidso {
+
+// The initialisation race applies (InitializationRaceOptions): a rival snap angle below the
+// configured one, not in the real-time mode.
+bool raceApplies(const OdometryOptions& options);
 
 struct Odometry::Impl {
   Camera camera;
@@ -88,9 +93,19 @@ struct Odometry::Impl {
   std::map<int, Eigen::Vector2d> tracked_keyframe_affine;
   int frames_since_keyframe = 0;
   Eigen::VectorXd last_intrinsics;  // of the last finished segment
+  // The initialisation race (odometry.hpp): the window's cost RMS once segment 0's window
+  // first held race.keyframes keyframes (NaN before), and the frames of segment 0's
+  // initialisation (first frame, initialised frame, snap frame; −1 before).
+  double race_cost = std::numeric_limits<double>::quiet_NaN();
+  int race_first_frame = -1, race_initialised_frame = -1, race_snap_frame = -1;
+  void noteRaceCost(const WindowSolveSummary& summary);
 
   // odometry.cc ------------------------------------------------------------------------
   Impl(const Camera& c, OdometryOptions o, const Mask& image_mask);
+  // A frame's way in: initialisation or tracking (the facade checks the input and builds the
+  // pyramid, which a race's two sides share).
+  FrameRecord& addFrame(std::shared_ptr<const ImagePyramid> pyramid, double timestamp,
+                        double exposure);
   void newInitializer();
   SE3d keyframePose(int id) const;
   void say(const std::string& message) { log.push_back(message); }

@@ -59,7 +59,12 @@ void Odometry::Impl::initialize(FrameRecord& record, std::shared_ptr<const Image
   keyframes[record.index] = {record.index, record.timestamp, segment, T_world_frame};
   for (size_t i = 0; i < init.pixels.size(); ++i)
     window->addPoint(first.index, init.pixels[i], init.inverse_distances[i]);
-  window->optimize();
+  noteRaceCost(window->optimize());
+  if (segment == 0) {
+    race_first_frame = first.index;
+    race_initialised_frame = record.index;
+    race_snap_frame = first.index + init.snapped_at;
+  }
   window->removeOutliers();
   refreshKeyframeRecords();
   selectImmaturePoints(record.index, *pyramid);
@@ -78,7 +83,7 @@ void Odometry::Impl::initialize(FrameRecord& record, std::shared_ptr<const Image
   std::ostringstream m;
   m << "segment " << segment << ": initialised at frame " << record.index << " from frame "
     << first.index << " (parallax " << init.parallax_px << " px, " << init.parallax_deg << "°, "
-    << window->numPoints() << " points)";
+    << window->numPoints() << " points; snapped at frame " << first.index + init.snapped_at << ")";
   say(m.str());
 }
 

@@ -83,7 +83,7 @@ void Odometry::Impl::makeKeyframe(FrameRecord& record,
   const std::vector<int> leaving = window->keyframesToMarginalize(options.marginalization);
   activatePoints(record.index, leaving);
   record.timing.activation_ms = stage.lapMs();
-  window->optimize();
+  noteRaceCost(window->optimize());
   record.timing.window_ms = stage.lapMs();
   window->removeOutliers();
   refreshKeyframeRecords();

@@ -206,6 +206,60 @@ TEST(OdometryEndToEnd, RetiredPointSinkReceivesExactlyTheRetiredPoints) {
   }
 }
 
+// The initialisation race (odometry.hpp, InitializationRaceOptions) only chooses: whichever
+// start it keeps, the run is the one that start gives alone — keyframe poses and tracked
+// frames bit for bit, and every point, retired ones through the sink included. A switch gain
+// of 1e-6 keeps the configured start, 1e6 takes the rival's; room185 (40 frames, N_f = 3, so
+// the faster side can have marginalised keyframes before the slower one decides) snaps at
+// its pixel criterion at 2° and waits for 5° otherwise, so the two starts differ.
+TEST(OdometryEndToEnd, InitialisationRaceRunsAsTheStartItKeeps) {
+  test::TempDir dir;
+  synth::SyntheticSequenceConfig config = synth::presetConfig("room185");
+  config.frames = 40;
+  const DatasetIndex index = renderDataset(config, dir.file("room185"));
+  for (const bool take_rival : {false, true}) {
+    SCOPED_TRACE(take_rival ? "rival taken" : "configured start kept");
+    cli::DatasetRunOptions raced;
+    raced.odometry.window.max_keyframes = 3;
+    raced.odometry.race.switch_gain = take_rival ? 1e6 : 1e-6;
+    std::vector<OdometryPoint> streamed;
+    raced.retired_point_sink = [&streamed](const OdometryPoint& p) { streamed.push_back(p); };
+    const cli::DatasetRun race = cli::runOdometryOnDataset(index, raced);
+    std::string events;
+    for (const std::string& e : race.odometry->log()) events += e + "\n";
+    EXPECT_NE(events.find(take_rival ? "the rival's start taken" : "the configured start kept"),
+              std::string::npos)
+        << events;
+    EXPECT_NE(events.find("window cost RMS at 3 keyframes"), std::string::npos) << events;
+
+    cli::DatasetRunOptions alone;
+    alone.odometry.window.max_keyframes = 3;
+    alone.odometry.race.rival_snap_parallax_deg = 0.0;  // no race
+    if (take_rival)
+      alone.odometry.initializer.snap_parallax_deg = raced.odometry.race.rival_snap_parallax_deg;
+    const cli::DatasetRun single = cli::runOdometryOnDataset(index, alone);
+
+    const std::vector<KeyframeRecord> a = race.odometry->keyframes();
+    const std::vector<KeyframeRecord> b = single.odometry->keyframes();
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_GE(a.size(), 4u);
+    for (size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].id, b[i].id);
+      EXPECT_EQ(a[i].T_world_cam.matrix(), b[i].T_world_cam.matrix()) << "keyframe " << a[i].id;
+    }
+    const auto& fa = race.odometry->frames();
+    const auto& fb = single.odometry->frames();
+    ASSERT_EQ(fa.size(), fb.size());
+    for (size_t i = 0; i < fa.size(); ++i) EXPECT_EQ(fa[i].tracked, fb[i].tracked) << i;
+
+    race.odometry->forEachPoint([&streamed](const OdometryPoint& p) { streamed.push_back(p); });
+    const std::vector<OdometryPoint> all = single.odometry->points();
+    ASSERT_EQ(streamed.size(), all.size());
+    for (size_t i = 0; i < all.size(); ++i)
+      EXPECT_EQ(streamed[i].position_world, all[i].position_world) << "point " << i;
+  }
+}
+
 // A real recorded motion (TUM VI room1's motion capture: hand-held, rotation-heavy, standing
 // nearly still for the first six seconds) through another calibration (Double Sphere, 195°,
 // 400×400) and another room: the odometry waits for parallax, then keeps the keyframe ATE

@@ -119,6 +119,11 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"initializer.snap_translation_start_gain", &o.initializer.snap_translation_start_gain},
       {"initializer.min_parallax_px", &o.initializer.min_parallax_px},
       {"initializer.min_parallax_deg", &o.initializer.min_parallax_deg},
+      {"initializer.snap_parallax_deg", &o.initializer.snap_parallax_deg},
+      {"race.rival_snap_parallax_deg", &o.race.rival_snap_parallax_deg},
+      {"race.keyframes", &o.race.keyframes},
+      {"race.switch_gain", &o.race.switch_gain},
+      {"race.max_frames", &o.race.max_frames},
       {"initializer.max_rmse", &o.initializer.max_rmse},
       {"initializer.min_points", &o.initializer.min_points},
       {"initializer.max_frames", &o.initializer.max_frames},
@@ -187,11 +192,12 @@ void assign(const Setting& s, const std::string& value) {
 }
 
 // No setting of the table is meaningfully negative (counts, weights, tolerances, sizes in
-// pixels) except the two whose "automatic" value is below the range: pyramid_levels 0 (the
-// depth from the image size) and content_margin_px −1 (from the pattern). A negative
-// count would size a vector or a loop wrongly instead of being refused.
+// pixels) except those whose "automatic" value is below the range: pyramid_levels 0 (the
+// depth from the image size), content_margin_px −1 (from the pattern) and
+// initializer.snap_parallax_deg −1 (min_parallax_deg's). A negative count would size a
+// vector or a loop wrongly instead of being refused.
 double lowestValue(const std::string& name) {
-  if (name == "content_margin_px") return -1.0;
+  if (name == "content_margin_px" || name == "initializer.snap_parallax_deg") return -1.0;
   return 0.0;
 }
 

@@ -2,7 +2,8 @@
 // The Odometry facade: frames in, poses, points and timings out (paper Fig. 3; DSO's
 // pipeline). One frame:
 //   1. not initialised: the Initializer aligns it to the first frame; once the baseline
-//      suffices, both become keyframes of the window with the initial points;
+//      suffices, both become keyframes of the window with the initial points (the first
+//      segment's start is raced against a rival's: InitializationRaceOptions);
 //   2. CoarseTracker: align to the newest keyframe's points, coarse to fine → pose, affine;
 //      tracking failure ends the segment: say so, re-initialise from the next frames;
 //   3. every window keyframe's immature points are searched along their epipolar curves;
@@ -31,6 +32,27 @@
 #include <vector>
 
 namespace omnidso {
+
+// The initialisation race (docs/architecture.md, "The initialisation race"). Through a narrow
+// view the first pair can settle in a wrong basin of the rotation–translation ambiguity, and
+// no snap angle tells which frame does (initializer.hpp, snap_parallax_deg: on a fast turn the
+// default's snap at 5° failed where one at 2° held; on D2's crop the reverse). The first
+// segment is therefore started twice on the same frames: as configured, and as a rival that
+// snaps at `rival_snap_parallax_deg`. Once each window has held `keyframes` keyframes (or lost
+// tracking before, which counts as an infinite cost), the rival replaces the configured start
+// only if its window's cost RMS, √(2 E / (8 n)) over the n residual patches at the optimum, is
+// below `switch_gain` × the other's. On the same frames a wrong basin's cost was 1.4–3.2× a
+// right one's, two right ones within 10 % (docs/performance.md, "The initialisation race").
+// Until then every frame is processed twice (the frames' timings count one side, the wall
+// time both) and the accessors show the configured start; a rival that snaps on the
+// configured start's frame would repeat it and is dropped then. Later segments (after a
+// tracking loss) and the real-time mode do not race.
+struct InitializationRaceOptions {
+  double rival_snap_parallax_deg = 2.0;  // ≤ 0, or not below the configured snap angle: no race
+  int keyframes = 3;                     // 2 … the window's size
+  double switch_gain = 0.8;
+  int max_frames = 200;                  // undecided after this many frames: the rival is dropped
+};
 
 struct OdometryOptions {
   // Active points aimed at (DSO's N_p): the density of activation's grid, one point per cell
@@ -100,6 +122,7 @@ struct OdometryOptions {
   // formed by one task in a fixed order: the trajectory is the same bit for bit for any count
   // (core/task_pool.hpp).
   int compute_threads = 1;
+  InitializationRaceOptions race;
 };
 
 struct FrameTiming {
@@ -204,7 +227,10 @@ class Odometry {
 
  private:
   struct Impl;
+  // The race's end (InitializationRaceOptions): the rival dropped, or made the odometry.
+  void settleRace();
   std::unique_ptr<Impl> impl_;
+  std::unique_ptr<Impl> rival_;  // while the initialisation race lasts
 };
 
 }  // namespace omnidso
