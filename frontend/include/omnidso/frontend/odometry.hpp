@@ -42,7 +42,8 @@ namespace omnidso {
 // tracking before, which counts as an infinite cost), the rival replaces the configured start
 // only if its window's cost RMS, √(2 E / (8 n)) over the n residual patches at the optimum, is
 // below `switch_gain` × the other's. On the same frames a wrong basin's cost was 1.4–3.2× a
-// right one's, two right ones within 10 % (docs/performance.md, "The initialisation race").
+// right one's, two right ones within 0.87–1.11× of each other (docs/performance.md, "The
+// initial pair's basin through a narrow view").
 // Until then every frame is processed twice (the frames' timings count one side, the wall
 // time both) and the accessors show the configured start; a rival that snaps on the
 // configured start's frame would repeat it and is dropped then. Later segments (after a
