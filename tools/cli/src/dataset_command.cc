@@ -44,7 +44,8 @@ nlohmann::json datasetInfo(const DatasetInfoArguments& args) {
       index.pcalib_path.value_or(""), index.vignette_path.value_or(""));
   photometric.checkImageSize(index.width, index.height);
   std::optional<Trajectory> ground_truth;
-  if (index.groundtruth_path) ground_truth = synth::cameraGroundTruth(index);
+  std::string extrinsics_source;  // body poses only
+  if (index.groundtruth_path) ground_truth = synth::cameraGroundTruth(index, &extrinsics_source);
 
   const auto exposure = std::minmax_element(
       index.frames.begin(), index.frames.end(),
@@ -85,8 +86,7 @@ nlohmann::json datasetInfo(const DatasetInfoArguments& args) {
        {{"present", ground_truth.has_value()},
         {"path", optionalPath(index.groundtruth_path)},
         {"frame", index.groundtruth_kind == GroundTruthKind::kBodyAsl
-                      ? "body, composed with the extrinsics in " +
-                            synth::bodyToCamera(index).source
+                      ? "body, composed with the extrinsics in " + extrinsics_source
                       : std::string("camera")},
         {"poses", ground_truth ? ground_truth->size() : 0}}},
   };

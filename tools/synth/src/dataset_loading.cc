@@ -45,14 +45,15 @@ BodyToCamera bodyToCamera(const DatasetIndex& index) {
                   "mav0/cam0/sensor.yaml or T_cam_imu in a Kalibr camchain.yaml; neither found");
 }
 
-Trajectory cameraGroundTruth(const DatasetIndex& index) {
+Trajectory cameraGroundTruth(const DatasetIndex& index, std::string* extrinsics_source) {
   if (!index.groundtruth_path) throw fileError(index.root, "dataset has no ground truth");
   if (index.groundtruth_kind == GroundTruthKind::kCameraTum) {
     return readTrajectoryTum(*index.groundtruth_path);
   }
   Trajectory body = readTrajectory(*index.groundtruth_path, TrajectoryFormat::kEuroc);
-  const SE3d body_to_camera = bodyToCamera(index).T_body_camera;
-  for (StampedPose& pose : body) pose.pose = pose.pose * body_to_camera;
+  const BodyToCamera extrinsics = bodyToCamera(index);
+  if (extrinsics_source) *extrinsics_source = extrinsics.source;
+  for (StampedPose& pose : body) pose.pose = pose.pose * extrinsics.T_body_camera;
   return body;
 }
 

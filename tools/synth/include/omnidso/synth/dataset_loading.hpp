@@ -29,8 +29,9 @@ BodyToCamera bodyToCamera(const DatasetIndex& index);
 
 // Ground truth as T_world_cam: TUM groundtruth.txt as stored; body poses (ASL csv, TUM VI's
 // gt_imu.csv) composed with the camera's extrinsics (bodyToCamera), T_world_cam =
-// T_world_body · T_BS. Throws omnidso::Error if the dataset has no ground truth, or body poses
-// and no extrinsics.
-Trajectory cameraGroundTruth(const DatasetIndex& index);
+// T_world_body · T_BS, the file they came from written to `extrinsics_source` if given (left
+// as it is for camera poses). Throws omnidso::Error if the dataset has no ground truth, or
+// body poses and no extrinsics.
+Trajectory cameraGroundTruth(const DatasetIndex& index, std::string* extrinsics_source = nullptr);
 
 }  // namespace omnidso::synth
