@@ -309,10 +309,10 @@ TEST(Initializer, WaitsForTheTriangulationAngle) {
 // The snap's own angle (InitializerOptions::snap_parallax_deg): on the same sideways path the
 // translation is freed once the rays have turned by 2°, the snapped problem is refined frame
 // after frame, and the initialiser still accepts only at min_parallax_deg — with the rotation
-// and the translation's direction as accurate as when both come on one frame. What snapping
-// on the same frame as acceptance costs is seen only in fast turns through a narrow view
-// (docs/performance.md, "The snap before the angle"): the penalised translation leaves the
-// sideways motion to the rotation until the angle is reached.
+// and the translation's direction as accurate as when both come on one frame. Which of the two
+// finds the right basin in a fast turn through a narrow view differs from render to render
+// (docs/performance.md, "The initial pair's basin through a narrow view"); the odometry races
+// them (odometry.hpp, InitializationRaceOptions).
 TEST(Initializer, SnapsAtItsOwnAngleAndAcceptsAtTheTriangulationAngle) {
   const Camera camera = synth::syntheticCamera("pinhole", 90.0, 320, 320);
   const test::RenderedScene scene(camera, 3);
