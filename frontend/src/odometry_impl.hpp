@@ -94,10 +94,11 @@ struct Odometry::Impl {
   int frames_since_keyframe = 0;
   Eigen::VectorXd last_intrinsics;  // of the last finished segment
   // The initialisation race (odometry.hpp): the window's cost RMS once segment 0's window
-  // first held race.keyframes keyframes (NaN before), and the frames of segment 0's
-  // initialisation (first frame, initialised frame, snap frame; −1 before).
+  // first held race.keyframes keyframes (NaN before), and segment 0's initial pair's first
+  // frame and the frame it snapped at (−1 before): two starts that agree on both computed the
+  // same, their acceptance included.
   double race_cost = std::numeric_limits<double>::quiet_NaN();
-  int race_first_frame = -1, race_initialised_frame = -1, race_snap_frame = -1;
+  int race_first_frame = -1, race_snap_frame = -1;
   void noteRaceCost(const WindowSolveSummary& summary);
 
   // odometry.cc ------------------------------------------------------------------------

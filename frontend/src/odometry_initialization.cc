@@ -62,7 +62,6 @@ void Odometry::Impl::initialize(FrameRecord& record, std::shared_ptr<const Image
   noteRaceCost(window->optimize());
   if (segment == 0) {
     race_first_frame = first.index;
-    race_initialised_frame = record.index;
     race_snap_frame = first.index + init.snapped_at;
   }
   window->removeOutliers();

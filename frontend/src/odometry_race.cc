@@ -25,8 +25,7 @@ void Odometry::settleRace() {
   const Impl& rival = *rival_;
   // A rival that snapped on the same frame from the same first frame computed the same.
   const bool twins = mine.race_snap_frame >= 0 && mine.race_snap_frame == rival.race_snap_frame &&
-                     mine.race_first_frame == rival.race_first_frame &&
-                     mine.race_initialised_frame == rival.race_initialised_frame;
+                     mine.race_first_frame == rival.race_first_frame;
   // A side that lost tracking before its window held race.keyframes keyframes: infinite cost.
   const double inf = std::numeric_limits<double>::infinity();
   const double mine_cost = mine.segment > 0 && std::isnan(mine.race_cost) ? inf : mine.race_cost;
