@@ -1,7 +1,8 @@
 #pragma once
 // FOV ("ATAN") camera model of Devernay & Faugeras (2001, "Straight lines have to be
-// straight", eq. 13–14): the model of DSO's camera.txt with 5 numbers and of the TUM monoVO
-// dataset; Kalibr's pinhole camera with distortion_model "fov".
+// straight", the field-of-view model r_d = atan(2 r_u tan(ω/2))/ω): the model of DSO's
+// camera.txt with 5 numbers and of the TUM monoVO dataset; Kalibr's pinhole camera with
+// distortion_model "fov".
 //
 // Parameters [fx, fy, cx, cy, ω], 0 < ω < π (Camera::create); k = 2·tan(ω/2).
 //   project:   r = √(x² + y²),  φ = atan2(k·r, z),  r_d = φ/ω,
