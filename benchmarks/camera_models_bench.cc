@@ -53,6 +53,11 @@ KannalaBrandtCamera<double> benchmarkCamera() {
       {179.2, 179.0, 239.8, 240.4, 0.00348, 0.000715, -0.00205, 0.000203});
 }
 template <>
+FovCamera<double> benchmarkCamera() {
+  // TUM monoVO's relative calibration on a 640×480 image.
+  return makeModel<FovCamera<double>>({223.458, 260.690, 318.386, 238.689, 0.934785});
+}
+template <>
 PinholeRadTanCamera<double> benchmarkCamera() {
   return makeModel<PinholeRadTanCamera<double>>(
       {458.654, 457.296, 327.2, 248.4, -0.2834, 0.07396, 0.00019359, 1.76e-05});

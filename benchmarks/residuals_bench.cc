@@ -15,6 +15,7 @@
 
 #include "omnidso/cameras/double_sphere.hpp"
 #include "omnidso/cameras/extended_unified.hpp"
+#include "omnidso/cameras/fov.hpp"
 #include "omnidso/cameras/kannala_brandt.hpp"
 #include "omnidso/cameras/pinhole.hpp"
 #include "omnidso/cameras/unified.hpp"
@@ -64,6 +65,10 @@ struct kb4 : Model<omnidso::KannalaBrandtCamera> {
   static Params params() {
     return (Params() << 120.0, 119.0, 320.2, 239.7, 0.01, -0.005, 0.001, 0.0002).finished();
   }
+};
+struct fov : Model<omnidso::FovCamera> {
+  // 90° off-axis at r_d = π/(2ω) ≈ 1.69: ≈ 189 px.
+  static Params params() { return (Params() << 112.0, 111.0, 320.2, 239.7, 0.93).finished(); }
 };
 
 omnidso::ImageF smoothTexture() {
@@ -158,5 +163,7 @@ BENCHMARK_TEMPLATE(BM_PhotometricResidual_Analytic, ds);
 BENCHMARK_TEMPLATE(BM_PhotometricResidual_Autodiff, ds);
 BENCHMARK_TEMPLATE(BM_PhotometricResidual_Analytic, kb4);
 BENCHMARK_TEMPLATE(BM_PhotometricResidual_Autodiff, kb4);
+BENCHMARK_TEMPLATE(BM_PhotometricResidual_Analytic, fov);
+BENCHMARK_TEMPLATE(BM_PhotometricResidual_Autodiff, fov);
 
 }  // namespace

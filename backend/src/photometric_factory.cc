@@ -3,6 +3,7 @@
 #include <omnidso/backend/window_photometric_terms.hpp>
 #include <omnidso/cameras/double_sphere.hpp>
 #include <omnidso/cameras/extended_unified.hpp>
+#include <omnidso/cameras/fov.hpp>
 #include <omnidso/cameras/kannala_brandt.hpp>
 #include <omnidso/cameras/pinhole.hpp>
 #include <omnidso/cameras/pyramid_scaling.hpp>
@@ -109,8 +110,9 @@ std::unique_ptr<PhotometricResidualFactory> PhotometricResidualFactory::forModel
     return std::make_unique<TypedFactory<DoubleSphereCamera>>();
   if (matches<KannalaBrandtCamera>(name))
     return std::make_unique<TypedFactory<KannalaBrandtCamera>>();
+  if (matches<FovCamera>(name)) return std::make_unique<TypedFactory<FovCamera>>();
   throw Error("camera model '" + name +
-              "' has no photometric residual kernel (pinhole, ucm, eucm, ds, kb4 have); "
+              "' has no photometric residual kernel (pinhole, ucm, eucm, ds, kb4, fov have); "
               "rectify distorted images to their undistorted model first");
 }
 

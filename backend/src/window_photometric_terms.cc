@@ -7,6 +7,7 @@
 #include <omnidso/backend/window_photometric_terms.hpp>
 #include <omnidso/cameras/double_sphere.hpp>
 #include <omnidso/cameras/extended_unified.hpp>
+#include <omnidso/cameras/fov.hpp>
 #include <omnidso/cameras/kannala_brandt.hpp>
 #include <omnidso/cameras/pinhole.hpp>
 #include <omnidso/cameras/pyramid_scaling.hpp>
@@ -401,5 +402,6 @@ template std::unique_ptr<WindowPhotometricTerms> makeWindowPhotometricTerms<Unif
 template std::unique_ptr<WindowPhotometricTerms> makeWindowPhotometricTerms<ExtendedUnifiedCamera>();
 template std::unique_ptr<WindowPhotometricTerms> makeWindowPhotometricTerms<DoubleSphereCamera>();
 template std::unique_ptr<WindowPhotometricTerms> makeWindowPhotometricTerms<KannalaBrandtCamera>();
+template std::unique_ptr<WindowPhotometricTerms> makeWindowPhotometricTerms<FovCamera>();
 
 }  // namespace omnidso

@@ -22,8 +22,9 @@ const std::map<std::string, DsoModel>& dsoKeywords() {
   static const std::map<std::string, DsoModel> kKeywords = {
       {"Pinhole", {"pinhole", 5}},   {"RadTan", {"pinhole-radtan", 8}},
       {"KannalaBrandt", {"kb4", 8}}, {"EquiDistant", {"kb4", 8}},
-      {"UCM", {"ucm", 5}},           {"Unified", {"ucm", 5}},
-      {"UnifiedModel", {"ucm", 5}},  {"Omni", {"ucm", 5}}};
+      {"FOV", {"fov", 5}},           {"UCM", {"ucm", 5}},
+      {"Unified", {"ucm", 5}},       {"UnifiedModel", {"ucm", 5}},
+      {"Omni", {"ucm", 5}}};
   return kKeywords;
 }
 
@@ -88,18 +89,29 @@ Camera loadDsoCameraTxt(const std::string& path) {
   if (toks.empty()) throw fileError(path, 1, "expected 'MODEL fx fy cx cy ...'");
   const bool has_keyword = !std::isdigit(static_cast<unsigned char>(toks[0][0])) &&
                            toks[0][0] != '-' && toks[0][0] != '.' && toks[0][0] != '+';
-  DsoModel model{"pinhole-radtan", 8};  // DSO reads 8 bare numbers as RadTan
+  DsoModel model{"pinhole-radtan", 8};
   if (has_keyword) {
     const auto it = dsoKeywords().find(toks[0]);
     if (it == dsoKeywords().end()) {
       throw fileError(path, 1,
                       "unknown camera model '" + toks[0] +
-                          "' (known: Pinhole, RadTan, KannalaBrandt, EquiDistant, "
+                          "' (known: Pinhole, RadTan, KannalaBrandt, EquiDistant, FOV, "
                           "UCM/Unified/UnifiedModel/Omni)");
     }
     model = it->second;
   }
   std::vector<double> values = numbersOnLine(path, 1, toks, has_keyword ? 1 : 0);
+  // Without a keyword DSO tells the model by the count: 8 numbers RadTan, 5 FOV (ATAN,
+  // DSO's original format and TUM monoVO's).
+  if (!has_keyword) {
+    if (values.size() == 5) model = {"fov", 5};
+    if (values.size() != 5 && values.size() != 8) {
+      throw fileError(path, 1,
+                      "a line without a model keyword takes 5 numbers (FOV: fx fy cx cy w) or 8 "
+                      "(RadTan: fx fy cx cy k1 k2 p1 p2), got " +
+                          std::to_string(values.size()));
+    }
+  }
   if (static_cast<int>(values.size()) != model.num_values) {
     throw fileError(path, 1,
                     "camera model '" + model.name + "' takes " + std::to_string(model.num_values) +
@@ -144,6 +156,7 @@ std::string dsoCameraTxtKeyword(const std::string& name) {
   if (name == "pinhole") return "Pinhole";
   if (name == "pinhole-radtan") return "RadTan";
   if (name == "kb4") return "KannalaBrandt";
+  if (name == "fov") return "FOV";
   if (name == "ucm") return "UCM";
   return "";
 }
@@ -153,7 +166,7 @@ void saveDsoCameraTxt(const std::string& path, const Camera& camera) {
   const std::string keyword = dsoCameraTxtKeyword(name);
   if (keyword.empty()) {
     throw Error(path + ": DSO's camera.txt has no form for camera model '" + name +
-                "' (it has pinhole, pinhole-radtan, kb4 and, as this project's extension, ucm)");
+                "' (it has pinhole, pinhole-radtan, kb4, fov and, as this project's extension, ucm)");
   }
   std::ofstream file(path);
   if (!file) throw fileError(path, "cannot open for writing");

@@ -1,6 +1,7 @@
 // Kalibr camchain / camera YAML and EuRoC sensor.yaml (calibration_io.hpp for the formats).
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -163,11 +164,21 @@ Camera cameraFromKalibrFields(const FieldReader& f, const std::string& coeffs_ke
   } else if ((distortion == "equidistant" || distortion == "equi") && name == "pinhole") {
     append_coeffs("[k1, k2, k3, k4]");
     name = "kb4";
+  } else if (distortion == "fov" && name == "pinhole") {
+    // Kalibr's FovDistortion: one coefficient, the ω of Devernay & Faugeras. Its range is
+    // Camera::create's, checked here so that the message names this field.
+    f.requireCount(coeffs_key, coeffs, 1, "[w]");
+    if (!(coeffs[0] > 0.0 && coeffs[0] < M_PI)) {
+      throw f.error(coeffs_key, "w must be in (0, pi), got " + std::to_string(coeffs[0]));
+    }
+    params.conservativeResize(5);
+    params[4] = coeffs[0];
+    name = "fov";
   } else {
     throw f.error("distortion_model", "distortion model '" + distortion +
                                           "' is not supported with camera_model '" + camera_model +
                                           "' (pinhole: none, radtan, "
-                                          "equidistant; omni: none, radtan; eucm, ds: none)");
+                                          "equidistant, fov; omni: none, radtan; eucm, ds: none)");
   }
 
   const auto [width, height] = f.resolution();
@@ -250,8 +261,10 @@ void saveKalibr(const std::string& path, const Camera& camera) {
   const auto tail = [&](int from) {
     return std::vector<double>(p.data() + from, p.data() + p.size());
   };
-  if (name == "pinhole-radtan" || name == "kb4") {
-    distortion = name == "kb4" ? "equidistant" : "radtan";
+  static const std::map<std::string, std::string> kPinholeDistortions = {
+      {"pinhole-radtan", "radtan"}, {"kb4", "equidistant"}, {"fov", "fov"}};
+  if (const auto d = kPinholeDistortions.find(name); d != kPinholeDistortions.end()) {
+    distortion = d->second;
     coeffs = tail(4);
   } else if (name == "ucm" || name == "ucm-radtan") {
     camera_model = "omni";

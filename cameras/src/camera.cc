@@ -41,8 +41,8 @@ CameraModelVariant makeModel(const std::string& name, const Eigen::VectorXd& par
 
 // Range checks of the model-specific parameters (after [fx, fy, cx, cy]); each model's
 // header gives the meaning: ξ ≥ 0 (UCM, eq. 2), α ∈ [0, 1] and β > 0 (EUCM), ξ > −1 and
-// α ∈ [0, 1] (DS; Kalibr's DS calibrations often have ξ < 0). Distortion coefficients are
-// unconstrained.
+// α ∈ [0, 1] (DS; Kalibr's DS calibrations often have ξ < 0), 0 < ω < π (FOV: the model
+// divides by ω, and tan(ω/2) is infinite at π). Distortion coefficients are unconstrained.
 void checkModelRanges(const std::string& name, const Eigen::VectorXd& p) {
   const auto require = [&](bool ok, const std::string& what) {
     if (!ok) throw Error("camera model '" + name + "': " + what);
@@ -56,6 +56,9 @@ void checkModelRanges(const std::string& name, const Eigen::VectorXd& p) {
   } else if (name == "ds") {
     require(p[4] > -1.0, "xi must be > -1, got " + show(p[4]));
     require(p[5] >= 0.0 && p[5] <= 1.0, "alpha must be in [0, 1], got " + show(p[5]));
+  } else if (name == "fov") {
+    require(p[4] > 0.0 && p[4] < M_PI,
+            "w (the field-of-view parameter omega) must be in (0, pi), got " + show(p[4]));
   }
 }
 
@@ -74,7 +77,8 @@ std::vector<std::string> knownCameraModelNames() {
 
 std::string canonicalCameraModelName(const std::string& name) {
   static const std::map<std::string, std::string> kAliases = {
-      {"kb", "kb4"}, {"equidistant", "kb4"}, {"omni", "ucm"}, {"unified", "ucm"}};
+      {"kb", "kb4"}, {"equidistant", "kb4"}, {"omni", "ucm"}, {"unified", "ucm"},
+      {"atan", "fov"}};
   const auto alias = kAliases.find(name);
   if (alias != kAliases.end()) return alias->second;
   const auto names = knownCameraModelNames();
@@ -82,7 +86,7 @@ std::string canonicalCameraModelName(const std::string& name) {
     if (n == name) return n;
   }
   throw Error("unknown camera model '" + name + "' (known: " + joined(names) +
-              "; aliases: kb, equidistant, omni, unified)");
+              "; aliases: kb, equidistant, omni, unified, atan)");
 }
 
 Camera::Camera(CameraModelVariant model, int width, int height)

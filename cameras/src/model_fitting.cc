@@ -59,6 +59,7 @@ ModelStarts startsFor(const std::string& name) {
   if (name == "ucm-radtan") return {{{0, 0, 0, 0, 0}, {0.5, 0, 0, 0, 0}, {1.0, 0, 0, 0, 0}}, bounds};
   if (name == "eucm") return {{{0.3, 1.0}, {0.5, 1.0}, {0.6, 1.2}}, bounds};
   if (name == "ds") return {{{0.0, 0.5}, {0.0, 0.6}, {0.2, 0.5}}, bounds};
+  if (name == "fov") return {{{0.5}, {0.9}, {1.3}}, bounds};  // ω = 0 is no camera
   if (name == "kb4" || name == "pinhole-radtan") return {{no_distortion}, bounds};
   return {{{}}, bounds};
 }
@@ -169,6 +170,7 @@ std::vector<ParameterBound> cameraParameterBounds(const std::string& name) {
     bounds.push_back({4, -1.0 + 1e-6, kInf});
     bounds.push_back({5, 0.0, 1.0});
   }
+  if (name == "fov") bounds.push_back({4, 1e-6, M_PI - 1e-6});
   return bounds;
 }
 

@@ -87,7 +87,7 @@ TEST_P(InverseDistanceResidualsTest, EqualTheCostFunctionBitForBit) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, InverseDistanceResidualsTest,
-                         ::testing::Values("pinhole", "ucm", "eucm", "ds", "kb4"),
+                         ::testing::Values("pinhole", "ucm", "eucm", "ds", "kb4", "fov"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace

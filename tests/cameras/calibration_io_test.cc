@@ -5,6 +5,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
+#include <string>
+#include <vector>
 #include <omnidso/cameras/calibration_io.hpp>
 #include <omnidso/core/error.hpp>
 
@@ -32,7 +35,9 @@ std::vector<Camera> everyModel() {
       Camera::create("ucm-radtan",
                      vec({408.911, 410.488, 630.280, 431.917, 1.05343, -0.0082879, 0.0117789,
                           0.0228246, -0.0041849}),
-                     1280, 800)};
+                     1280, 800),
+      Camera::create("fov", vec({446.91584, 556.13952, 637.2728, 509.770464, 0.934785123456789}),
+                     1280, 1024)};
 }
 
 class CalibrationIoTest : public ::testing::Test {
@@ -144,6 +149,62 @@ TEST_F(CalibrationIoTest, DsoRelativeIntrinsicsAndAliases) {
   EXPECT_EQ(ucm.params(), vec({200, 201, 240, 239, 1.1}));
 }
 
+// TUM monoVO's camera.txt: 5 bare numbers in the relative form. DSO reads 5 numbers without a
+// keyword as FOV (ATAN): fx·w, fy·h, cx·w − 0.5, cy·h − 0.5 (pixel-centre origin), ω as is:
+//   0.349153·1280 = 446.91584, 0.543105·1024 = 556.13952,
+//   0.49826·1280 − 0.5 = 637.2728, 0.498311·1024 − 0.5 = 509.770464.
+// Products of short decimals: 1e-9 px covers the binary rounding of the inputs.
+TEST_F(CalibrationIoTest, DsoFiveBareNumbersAreTheFovModel) {
+  const Camera tum = loadCalibration(write(
+      "tum_monovo.txt", "0.349153 0.543105 0.49826 0.498311 0.934785\n1280 1024\ncrop\n640 480\n"));
+  EXPECT_EQ(tum.modelName(), "fov");
+  EXPECT_EQ(tum.width(), 1280);
+  EXPECT_EQ(tum.height(), 1024);
+  const Eigen::VectorXd expected = vec({446.91584, 556.13952, 637.2728, 509.770464, 0.934785});
+  EXPECT_LT((tum.params() - expected).cwiseAbs().maxCoeff(), 1e-9) << tum.params().transpose();
+  // The keyword form, absolute intrinsics.
+  const Camera keyword =
+      loadCalibration(write("fov.txt", "FOV 446.9 556.1 637.3 509.8 0.93\n1280 1024\n"));
+  EXPECT_EQ(keyword.modelName(), "fov");
+  EXPECT_EQ(keyword.params(), vec({446.9, 556.1, 637.3, 509.8, 0.93}));
+  // What saveDsoCameraTxt writes for it: `FOV fx fy cx cy w` (17 significant digits).
+  const std::string out = path("fov_written.txt");
+  saveDsoCameraTxt(out, keyword);
+  std::ifstream written(out);
+  std::string keyword_written;
+  std::vector<double> numbers(5);
+  written >> keyword_written >> numbers[0] >> numbers[1] >> numbers[2] >> numbers[3] >> numbers[4];
+  EXPECT_EQ(keyword_written, "FOV");
+  EXPECT_EQ(numbers, std::vector<double>({446.9, 556.1, 637.3, 509.8, 0.93}));
+  // A bare line must have 5 (FOV) or 8 (RadTan) numbers; ω outside (0, π) is refused.
+  EXPECT_NE(loadError(write("six.txt", "1 2 3 4 5 6\n640 480\n"))
+                .find(":1: a line without a model keyword takes 5 numbers (FOV"),
+            std::string::npos);
+  EXPECT_NE(loadError(write("omega.txt", "FOV 400 400 320 240 3.5\n640 480\n"))
+                .find(":1: camera model 'fov': w (the field-of-view parameter omega) must be in"),
+            std::string::npos);
+}
+
+// Kalibr: camera_model pinhole with distortion_model fov and one coefficient [w].
+TEST_F(CalibrationIoTest, KalibrPinholeWithFovDistortionIsTheFovModel) {
+  const Camera fov = loadCalibration(write("kalibr_fov.yaml",
+                                           "cam0:\n  camera_model: pinhole\n"
+                                           "  intrinsics: [446.9, 556.1, 637.3, 509.8]\n"
+                                           "  distortion_model: fov\n"
+                                           "  distortion_coeffs: [0.934785]\n"
+                                           "  resolution: [1280, 1024]\n"));
+  EXPECT_EQ(fov.modelName(), "fov");
+  EXPECT_EQ(fov.params(), vec({446.9, 556.1, 637.3, 509.8, 0.934785}));
+  // Written back in the same form (the round trip itself: KalibrRoundTripsEveryModel).
+  const std::string out = path("kalibr_fov_written.yaml");
+  saveKalibr(out, fov);
+  std::ifstream written(out);
+  const std::string text((std::istreambuf_iterator<char>(written)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("camera_model: pinhole"), std::string::npos) << text;
+  EXPECT_NE(text.find("distortion_model: fov"), std::string::npos) << text;
+  EXPECT_NE(text.find("distortion_coeffs: [0.93478499999999998]"), std::string::npos) << text;
+}
+
 TEST_F(CalibrationIoTest, KalibrErrorsNameTheFileAndField) {
   struct Case {
     std::string content;
@@ -168,6 +229,18 @@ TEST_F(CalibrationIoTest, KalibrErrorsNameTheFileAndField) {
        "  distortion_model: radtan\n  distortion_coeffs: [0.1, 0.2]\n" +
            tail,
        "field 'cam0.distortion_coeffs'", "expected 4 values"},
+      {"cam0:\n  camera_model: pinhole\n  intrinsics: [400, 400, 320, 240]\n"
+       "  distortion_model: fov\n  distortion_coeffs: [0.9, 0.1]\n" +
+           tail,
+       "field 'cam0.distortion_coeffs'", "expected 1 values [w]"},
+      {"cam0:\n  camera_model: pinhole\n  intrinsics: [400, 400, 320, 240]\n"
+       "  distortion_model: fov\n  distortion_coeffs: [0.0]\n" +
+           tail,
+       "field 'cam0.distortion_coeffs'", "w must be in (0, pi)"},
+      {"cam0:\n  camera_model: omni\n  intrinsics: [0.9, 400, 400, 320, 240]\n"
+       "  distortion_model: fov\n  distortion_coeffs: [0.9]\n" +
+           tail,
+       "field 'cam0.distortion_model'", "pinhole: none, radtan, equidistant, fov"},
       {"cam0:\n  camera_model: eucm\n  intrinsics: [0.5, 1, 400, 400, 320, 240]\n"
        "  distortion_model: radtan\n  distortion_coeffs: [0, 0, 0, 0]\n" +
            tail,

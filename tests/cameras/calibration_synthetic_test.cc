@@ -148,6 +148,8 @@ INSTANTIATE_TEST_SUITE_P(
         // do not decide ξ (see DoubleSphereAcrossTheXiFocalValley below).
         SyntheticCase{"ds", {300.0, 299.2, 641.1, 399.4, -0.2, 0.58}, 60},
         SyntheticCase{"kb4", {558.5, 560.5, 620.5, 381.9, -0.0015, -0.0033, 0.0061, -0.0037}, 60},
+        // TUM monoVO's relative calibration on this 1280×800 image.
+        SyntheticCase{"fov", {446.9, 434.5, 637.3, 398.1, 0.934785}, 60},
         SyntheticCase{"ucm-radtan",
                       {408.9, 410.5, 630.3, 431.9, 1.05, -0.0083, 0.0118, 0.0023, -0.0042},
                       60},

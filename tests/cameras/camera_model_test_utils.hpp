@@ -74,6 +74,16 @@ inline std::vector<TestCamera<KannalaBrandtCamera<double>>> realisticCameras() {
        0.000202936736},
       480, 480, "tumvi-like")};
 }
+// TUM monoVO's camera.txt (relative: 0.349153 0.543105 0.49826 0.498311 0.934785) in pixels
+// on its 1280×1024 images (fx·w, fy·h, cx·w − 0.5, cy·h − 0.5; corners ≈ 91° off-axis), and
+// the same relative calibration on a 640×480 image (non-square pixels: fy/fx ≈ 1.17).
+template <>
+inline std::vector<TestCamera<FovCamera<double>>> realisticCameras() {
+  return {makeCamera<FovCamera<double>>({446.91584, 556.13952, 637.2728, 509.770464, 0.934785},
+                                        1280, 1024, "tum-monovo"),
+          makeCamera<FovCamera<double>>({223.45792, 260.6904, 318.3864, 238.68928, 0.934785},
+                                        640, 480, "tum-monovo-640x480")};
+}
 template <>
 inline std::vector<TestCamera<PinholeRadTanCamera<double>>> realisticCameras() {
   return {makeCamera<PinholeRadTanCamera<double>>(

@@ -28,7 +28,8 @@ std::vector<NamedParams> everyModel() {
           {"ds", vec({180, 181, 319.1, 240.7, 0.2, 0.6})},
           {"kb4", vec({200, 201, 319.4, 239.6, 0.01, -0.005, 0.001, -0.0002})},
           {"pinhole-radtan", vec({458.6, 457.3, 319.2, 240.4, -0.28, 0.07, 2e-4, 1.8e-5})},
-          {"ucm-radtan", vec({408.9, 410.5, 320.3, 241.9, 1.05, -0.008, 0.012, 0.002, -0.004})}};
+          {"ucm-radtan", vec({408.9, 410.5, 320.3, 241.9, 1.05, -0.008, 0.012, 0.002, -0.004})},
+          {"fov", vec({223.5, 260.7, 318.4, 238.7, 0.934785})}};
 }
 
 std::string errorOf(const std::function<void()>& f) {
@@ -66,6 +67,7 @@ TEST(CameraTest, AcceptsAliases) {
   EXPECT_EQ(canonicalCameraModelName("equidistant"), "kb4");
   EXPECT_EQ(canonicalCameraModelName("omni"), "ucm");
   EXPECT_EQ(canonicalCameraModelName("unified"), "ucm");
+  EXPECT_EQ(canonicalCameraModelName("atan"), "fov");
   EXPECT_EQ(Camera::create("omni", vec({300, 300, 320, 240, 1.0}), 640, 480).modelName(), "ucm");
 }
 
@@ -91,6 +93,14 @@ TEST(CameraTest, RejectsBadParametersWithReasons) {
   EXPECT_NE(create("ds", vec({1, 1, 1, 1, -1.0, 0.5})).find("xi must be > -1"), std::string::npos);
   EXPECT_NE(create("ds", vec({1, 1, 1, 1, 0.1, -0.1})).find("alpha must be in [0, 1]"),
             std::string::npos);
+  // FOV: ω > 0 (the model divides by it) and ω < π (tan(ω/2) is infinite there).
+  for (const double omega : {0.0, -0.5, M_PI, 4.0}) {
+    EXPECT_NE(create("fov", vec({1, 1, 1, 1, omega})).find("must be in (0, pi)"),
+              std::string::npos)
+        << omega;
+  }
+  EXPECT_EQ(create("fov", vec({1, 1, 1, 1, 1e-6})), "(no error)");
+  EXPECT_EQ(create("fov", vec({1, 1, 1, 1, 3.14})), "(no error)");
   EXPECT_NE(errorOf([] {
               Camera::create("pinhole", vec({1, 1, 1, 1}), 0, 480);
             }).find("image size must be in [1, 100000]"),
@@ -164,6 +174,12 @@ TEST(CameraTest, DistortionAndUndistortedModel) {
   const Camera kb = Camera::create("kb4", everyModel()[4].params, 640, 480);
   EXPECT_FALSE(kb.hasDistortion());
   EXPECT_EQ(kb.undistortedModel().params(), kb.params());
+  // FOV is a model of its own that the odometry runs on natively, not a distortion of one.
+  const Camera fov = Camera::create("fov", everyModel()[7].params, 640, 480);
+  EXPECT_FALSE(fov.hasDistortion());
+  EXPECT_FALSE(fov.distortsImages());
+  EXPECT_EQ(fov.undistortedModel().modelName(), "fov");
+  EXPECT_EQ(fov.undistortedModel().params(), fov.params());
 }
 
 // UCM with ξ > 1: the image of the sphere is the disc r < 1/√(ξ² − 1) on the normalised
@@ -215,6 +231,28 @@ double ucmAngle(double r, double xi) {
     (std::sin(mid) / (std::cos(mid) + xi) < r ? lo : hi) = mid;
   }
   return lo;
+}
+
+// TUM monoVO's camera (1280×1024): the angle from the axis at normalised radius r_d is
+// θ = atan2(sin ωr_d, 2 tan(ω/2) cos ωr_d) (fov.hpp); the border midpoints sit at
+// r_d = (c + 0.5)/f and (w − 0.5 − c)/f, so the figures are closed forms. Its corners are
+// ≈ 90.8° off-axis: the diagonal exceeds 180° though no border midpoint reaches 90°.
+TEST(FieldOfViewTest, FovModelMatchesTheClosedForm) {
+  const double fx = 446.91584, fy = 556.13952, cx = 637.2728, cy = 509.770464, w = 0.934785;
+  const Camera camera = Camera::create("fov", vec({fx, fy, cx, cy, w}), 1280, 1024);
+  const auto theta = [w](double r_d) {
+    return std::atan2(std::sin(w * r_d), 2.0 * std::tan(w / 2.0) * std::cos(w * r_d));
+  };
+  const double deg = 180.0 / M_PI;
+  // acos of the bearing's z near 90° and the bisection-free border points: 1e-9°.
+  EXPECT_NEAR(horizontalFovDeg(camera),
+              (theta((cx + 0.5) / fx) + theta((1279.5 - cx) / fx)) * deg, 1e-9);
+  EXPECT_NEAR(verticalFovDeg(camera),
+              (theta((cy + 0.5) / fy) + theta((1023.5 - cy) / fy)) * deg, 1e-9);
+  const double corner = std::hypot((cx + 0.5) / fx, (cy + 0.5) / fy);
+  EXPECT_GT(theta(corner), M_PI / 2);
+  EXPECT_GT(diagonalFovDeg(camera), 180.0);
+  EXPECT_DOUBLE_EQ(validPixelFraction(camera), 1.0);  // the image circle r_d = π/ω lies outside
 }
 
 TEST(FieldOfViewTest, UnifiedNearXiOneSeesBeyond180Degrees) {

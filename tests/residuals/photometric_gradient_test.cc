@@ -85,7 +85,7 @@ class PhotometricGradientTest : public ::testing::Test {
   }
 };
 
-using Models = ::testing::Types<Pinhole, Ucm, Eucm, Ds, Kb4>;
+using Models = ::testing::Types<Pinhole, Ucm, Eucm, Ds, Kb4, Fov>;
 TYPED_TEST_SUITE(PhotometricGradientTest, Models);
 
 // Probes one cost function; returns the tangent-space Jacobians and residuals.

@@ -140,7 +140,7 @@ class PhotometricSceneTest : public ::testing::Test {
   std::vector<std::unique_ptr<ceres::CostFunction>> costs_;
 };
 
-using Models = ::testing::Types<Pinhole, Ucm, Eucm, Ds, Kb4>;
+using Models = ::testing::Types<Pinhole, Ucm, Eucm, Ds, Kb4, Fov>;
 TYPED_TEST_SUITE(PhotometricSceneTest, Models);
 
 std::array<double, 7> plus(const std::array<double, 7>& x, const Eigen::Matrix<double, 6, 1>& d) {

@@ -13,6 +13,7 @@
 
 #include "omnidso/cameras/double_sphere.hpp"
 #include "omnidso/cameras/extended_unified.hpp"
+#include "omnidso/cameras/fov.hpp"
 #include "omnidso/cameras/kannala_brandt.hpp"
 #include "omnidso/cameras/pinhole.hpp"
 #include "omnidso/cameras/unified.hpp"
@@ -100,12 +101,19 @@ inline ModelTag<KannalaBrandtCamera>::Params ModelTag<KannalaBrandtCamera>::para
   p << 60.0, 59.5, 160.2, 119.7, 0.01, -0.005, 0.001, 0.0002;
   return p;
 }
+template <>
+inline ModelTag<FovCamera>::Params ModelTag<FovCamera>::params() {
+  Params p;
+  p << 56.0, 55.5, 160.2, 119.7, 0.93;  // 90° off-axis at r_d = π/(2ω) ≈ 1.69: ≈ 94 px
+  return p;
+}
 
 using Pinhole = ModelTag<PinholeCamera>;
 using Ucm = ModelTag<UnifiedCamera>;
 using Eucm = ModelTag<ExtendedUnifiedCamera>;
 using Ds = ModelTag<DoubleSphereCamera>;
 using Kb4 = ModelTag<KannalaBrandtCamera>;
+using Fov = ModelTag<FovCamera>;
 
 // I(u, v) = 128 + a sum of sines: smooth at the pixel scale (wavelengths ≥ 15 px) so that
 // bilinear interpolation and numeric differences see a well-behaved function.

@@ -27,7 +27,7 @@ constexpr double kJacobianAgreement = 1e-7;
 
 template <typename Tag>
 class TrackingResidualTest : public ::testing::Test {};
-using Models = ::testing::Types<Pinhole, Ucm, Eucm, Ds, Kb4>;
+using Models = ::testing::Types<Pinhole, Ucm, Eucm, Ds, Kb4, Fov>;
 TYPED_TEST_SUITE(TrackingResidualTest, Models);
 
 ceres::GradientChecker::ProbeResults probe(const ceres::CostFunction& cost,

@@ -197,7 +197,7 @@ TEST(SyntheticDatasetTest, CamerasSpanTheRequestedFieldOfView) {
   // The horizontal FoV is measured through the border midpoints, at radius min(w, h)/2
   // from the centre: the radius syntheticCamera puts at fov/2. Bisection and float
   // rounding keep the result within 1e-3°.
-  for (const char* model : {"ucm", "eucm", "ds", "kb4"}) {
+  for (const char* model : {"ucm", "eucm", "ds", "kb4", "fov"}) {
     const Camera camera = syntheticCamera(model, 185.0, 120, 120);
     EXPECT_NEAR(horizontalFovDeg(camera), 185.0, 1e-3) << model;
     EXPECT_GT(maximumFovDeg(camera), 180.0) << model;

@@ -21,7 +21,7 @@ namespace omnidso::cli {
 namespace {
 namespace fs = std::filesystem;
 
-const char* const kDefaultModels = "ucm,eucm,ds,kb4,ucm-radtan,pinhole-radtan";
+const char* const kDefaultModels = "ucm,eucm,ds,kb4,fov,ucm-radtan,pinhole-radtan";
 
 struct CalibrateArgs {
   std::string images;

@@ -119,7 +119,7 @@ void registerSynthCommand(CLI::App& app) {
   cmd->add_option("--frames", args->frames, "number of frames (default: the preset's)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--camera-model", args->camera_model, "camera model (default: the preset's)")
-      ->check(CLI::IsMember({"ucm", "pinhole", "eucm", "ds", "kb", "kb4"}));
+      ->check(CLI::IsMember({"ucm", "pinhole", "eucm", "ds", "kb", "kb4", "fov", "atan"}));
   cmd->add_option("--fov", args->fov_deg, "field of view in degrees across the image circle")
       ->check(CLI::Range(1.0, 359.0));
   cmd->add_option("--size", args->size, "image size WxH (default 480x480)");

@@ -42,6 +42,7 @@ Camera syntheticCamera(const std::string& model_name, double fov_deg, int width,
       {"eucm", {0.55, 1.1}},
       {"ds", {0.2, 0.55}},
       {"kb4", {-0.01, 0.002, 0.0, 0.0}},
+      {"fov", {0.93}},
       {"pinhole-radtan", {0.0, 0.0, 0.0, 0.0}},
       {"ucm-radtan", {0.97, 0.0, 0.0, 0.0, 0.0}},
   };

@@ -2,7 +2,7 @@
 // Run-time selection of the photometric residual (residuals/photometric_cost.hpp) by camera
 // model name: the window is built once per camera, and the residual kernels are templates on
 // the model, so this adapter is the one place where a model name becomes a template.
-// Models with residual kernels: pinhole, ucm, eucm, ds, kb4. Distorted models
+// Models with residual kernels: pinhole, ucm, eucm, ds, kb4, fov. Distorted models
 // (pinhole-radtan, ucm-radtan) are rectified to their undistorted model first (paper Sec. III:
 // the raw images are undistorted before the unified model is applied).
 

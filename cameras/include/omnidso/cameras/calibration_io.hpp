@@ -7,9 +7,9 @@
 //   camera_model: pinhole | omni | eucm | ds
 //   intrinsics:   pinhole [fu, fv, pu, pv]; omni [xi, fu, fv, pu, pv];
 //                 eucm [alpha, beta, fu, fv, pu, pv]; ds [xi, alpha, fu, fv, pu, pv]
-//   distortion_model: none | radtan | equidistant  (pinhole+equidistant = kb4;
-//                 pinhole/omni + radtan = pinhole-radtan / ucm-radtan)
-//   distortion_coeffs: [k1, k2, p1, p2] (radtan) or [k1, k2, k3, k4] (equidistant)
+//   distortion_model: none | radtan | equidistant | fov  (pinhole+equidistant = kb4;
+//                 pinhole+fov = fov; pinhole/omni + radtan = pinhole-radtan / ucm-radtan)
+//   distortion_coeffs: [k1, k2, p1, p2] (radtan), [k1, k2, k3, k4] (equidistant) or [w] (fov)
 //   resolution: [width, height]
 //
 // DSO camera.txt (github.com/JakobEngel/dso, "Geometric Calibration File"):
@@ -17,6 +17,8 @@
 //             Pinhole fx fy cx cy 0
 //             RadTan fx fy cx cy k1 k2 p1 p2          (keyword optional: 8 numbers)
 //             KannalaBrandt | EquiDistant fx fy cx cy k1 k2 k3 k4
+//             FOV fx fy cx cy w                       (keyword optional: 5 numbers; DSO's
+//                                                      original ATAN format, TUM monoVO's)
 //             UCM fx fy cx cy xi     — this project's extension for the unified model
 //                                      (aliases Unified, UnifiedModel, Omni); upstream DSO
 //                                      has no omnidirectional model.
@@ -71,7 +73,7 @@ std::optional<SE3d> loadKalibrCamImu(const std::string& path);
 // Writes `cam0:` with camera_model, intrinsics, distortion_model, distortion_coeffs,
 // resolution. Every model of CameraModelVariant has a Kalibr form.
 void saveKalibr(const std::string& path, const Camera& camera);
-// The camera.txt keyword of a model (Pinhole, RadTan, KannalaBrandt, UCM); empty for the
+// The camera.txt keyword of a model (Pinhole, RadTan, KannalaBrandt, FOV, UCM); empty for the
 // models camera.txt cannot hold (eucm, ds, ucm-radtan).
 std::string dsoCameraTxtKeyword(const std::string& model_name);
 // Throws omnidso::Error for models camera.txt cannot hold (eucm, ds, ucm-radtan).

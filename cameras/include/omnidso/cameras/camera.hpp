@@ -15,6 +15,7 @@
 #include "omnidso/cameras/distorted.hpp"
 #include "omnidso/cameras/double_sphere.hpp"
 #include "omnidso/cameras/extended_unified.hpp"
+#include "omnidso/cameras/fov.hpp"
 #include "omnidso/cameras/kannala_brandt.hpp"
 #include "omnidso/cameras/pinhole.hpp"
 #include "omnidso/cameras/unified.hpp"
@@ -24,7 +25,7 @@ namespace omnidso {
 
 using CameraModelVariant =
     std::variant<PinholeCamera<double>, UnifiedCamera<double>, ExtendedUnifiedCamera<double>,
-                 DoubleSphereCamera<double>, KannalaBrandtCamera<double>,
+                 DoubleSphereCamera<double>, KannalaBrandtCamera<double>, FovCamera<double>,
                  DistortedCamera<PinholeCamera<double>>, DistortedCamera<UnifiedCamera<double>>>;
 
 // Plausibility limits of calibration files, so that a mistyped number is refused instead of
@@ -38,7 +39,8 @@ constexpr double kMaxPixelMagnitude = 1e6;
 std::vector<std::string> knownCameraModelNames();
 
 // The canonical kName for a name or one of its aliases ("kb", "equidistant" → "kb4";
-// "omni", "unified" → "ucm"); throws omnidso::Error listing the known names otherwise.
+// "omni", "unified" → "ucm"; "atan" → "fov"); throws omnidso::Error listing the known names
+// otherwise.
 std::string canonicalCameraModelName(const std::string& name);
 
 class Camera {
@@ -48,7 +50,8 @@ class Camera {
   // Builds a model from its name (kName or alias) and parameters in the model's internal
   // order [fx, fy, cx, cy, extra...]. Throws omnidso::Error for an unknown name (listing the
   // known ones), a wrong parameter count, non-finite parameters, non-positive focal lengths,
-  // out-of-range model parameters (UCM ξ < 0, DS ξ ≤ −1, α ∉ [0, 1], β ≤ 0), focal lengths
+  // out-of-range model parameters (UCM ξ < 0, DS ξ ≤ −1, α ∉ [0, 1], β ≤ 0, FOV ω ∉ (0, π)),
+  // focal lengths
   // or principal points beyond kMaxPixelMagnitude, or an image size outside
   // [1, kMaxImageSide].
   static Camera create(const std::string& model_name, const Eigen::VectorXd& params, int width,

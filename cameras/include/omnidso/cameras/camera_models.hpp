@@ -8,6 +8,7 @@
 //   "eucm"            ExtendedUnifiedCamera<S>                fx fy cx cy alpha beta
 //   "ds"              DoubleSphereCamera<S>                   fx fy cx cy xi alpha
 //   "kb4"             KannalaBrandtCamera<S>                  fx fy cx cy k1 k2 k3 k4
+//   "fov"             FovCamera<S>                            fx fy cx cy w
 //   "pinhole-radtan"  PinholeRadTanCamera<S>                  fx fy cx cy k1 k2 p1 p2
 //                     = DistortedCamera<PinholeCamera<S>>
 //   "ucm-radtan"      UnifiedRadTanCamera<S>                  fx fy cx cy xi k1 k2 p1 p2
@@ -20,6 +21,7 @@
 #include <omnidso/cameras/distorted.hpp>
 #include <omnidso/cameras/double_sphere.hpp>
 #include <omnidso/cameras/extended_unified.hpp>
+#include <omnidso/cameras/fov.hpp>
 #include <omnidso/cameras/kannala_brandt.hpp>
 #include <omnidso/cameras/pinhole.hpp>
 #include <omnidso/cameras/radtan.hpp>
@@ -33,7 +35,7 @@ namespace omnidso {
 template <typename Scalar>
 using CameraModelsOf =
     std::tuple<PinholeCamera<Scalar>, UnifiedCamera<Scalar>, ExtendedUnifiedCamera<Scalar>,
-               DoubleSphereCamera<Scalar>, KannalaBrandtCamera<Scalar>,
+               DoubleSphereCamera<Scalar>, KannalaBrandtCamera<Scalar>, FovCamera<Scalar>,
                PinholeRadTanCamera<Scalar>, UnifiedRadTanCamera<Scalar>>;
 
 using AllCameraModels = CameraModelsOf<double>;

@@ -34,7 +34,7 @@ struct ParameterBound {
 };
 
 // The bounds that keep a solver inside Camera::create's ranges: fx, fy > 0 (1e-6), UCM ξ ≥ 0,
-// EUCM α ∈ [0, 1] and β > 0, DS ξ > −1 and α ∈ [0, 1].
+// EUCM α ∈ [0, 1] and β > 0, DS ξ > −1 and α ∈ [0, 1], FOV ω ∈ (0, π) (1e-6 inside).
 std::vector<ParameterBound> cameraParameterBounds(const std::string& canonical_name);
 // Applies `bounds` to the parameter block `params` of `problem`.
 void setParameterBounds(ceres::Problem& problem, double* params,

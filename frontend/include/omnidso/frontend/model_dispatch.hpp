@@ -33,6 +33,8 @@ R withResidualModel(const Camera& camera, F&& f) {
           return f(ModelTag<DoubleSphereCamera>{}, model);
         } else if constexpr (std::is_same_v<T, KannalaBrandtCamera<double>>) {
           return f(ModelTag<KannalaBrandtCamera>{}, model);
+        } else if constexpr (std::is_same_v<T, FovCamera<double>>) {
+          return f(ModelTag<FovCamera>{}, model);
         } else {
           throw Error("camera model '" + camera.modelName() +
                       "' has distortion: rectify the images to '" +

@@ -185,7 +185,7 @@ int defaultContentMarginPx(int pattern_spread);
 
 class Odometry {
  public:
-  // camera: distortion-free model (pinhole, ucm, eucm, ds, kb4) of the images passed in.
+  // camera: distortion-free model (pinhole, ucm, eucm, ds, kb4, fov) of the images passed in.
   // image_mask (optional, camera-sized): 0 marks pixels without image content (outside the
   // source image after rectification, or outside a fisheye's image circle:
   // detectContentMask); combined with the camera's own validity mask, then eroded by

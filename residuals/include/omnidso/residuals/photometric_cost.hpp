@@ -2,7 +2,7 @@
 // Factories of the photometric residual cost functions (paper eq. 5–7), instantiated per
 // camera model in residuals/src/photometric_cost_MODEL.cc for pattern sizes 1, 5 and 8
 // (models: PinholeCamera, UnifiedCamera, ExtendedUnifiedCamera, DoubleSphereCamera,
-// KannalaBrandtCamera). Parameter blocks, in order:
+// KannalaBrandtCamera, FovCamera). Parameter blocks, in order:
 //   host pose T_world_host (7, SE3Manifold), target pose T_world_target (7, SE3Manifold),
 //   inverse distance (1), host affine [a, b] (2), target affine [a, b] (2),
 //   intrinsics (Camera<double>::kNumParams, level-0 values).

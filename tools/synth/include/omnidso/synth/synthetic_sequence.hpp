@@ -48,7 +48,8 @@ std::vector<std::string> presetNames();
 // A camera of the given model whose inscribed image circle (radius min(w, h)/2 around the
 // image centre) spans fov_deg: the focal length f = R / r₁(fov/2), with r₁ the radius of the
 // unit-focal model at that angle. Model-specific parameters are fixed typical values
-// (ucm ξ = 0.97; eucm α = 0.55, β = 1.1; ds ξ = 0.2, α = 0.55; kb4 k = [−0.01, 0.002, 0, 0]).
+// (ucm ξ = 0.97; eucm α = 0.55, β = 1.1; ds ξ = 0.2, α = 0.55; kb4 k = [−0.01, 0.002, 0, 0];
+// fov ω = 0.93, near TUM monoVO's).
 // A pinhole camera takes fov_deg horizontally (pinholeForFov) and needs fov_deg < 180.
 Camera syntheticCamera(const std::string& model_name, double fov_deg, int width, int height);
 
