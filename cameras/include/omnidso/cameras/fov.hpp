@@ -17,7 +17,7 @@
 // dφ/dθ = k/(cos²θ + k²sin²θ) > 0: the image radius grows on all of [0, π) and never folds,
 // so maxAngleFromAxis() is π, as for a KB4 lens without a fold.
 // Near the optical axis (r → 0) the ratios are written with D = √(k²r² + z²), sin φ = k·r/D,
-// cos φ = z/D, sinc φ = sin φ/φ and h(φ) = (φ − sin φ cos φ)/φ³ (series below 0.1), so that
+// cos φ = z/D, sinc φ = sin φ/φ and h(φ) = (φ − sin φ cos φ)/φ³ (angle_ratios.hpp), so that
 // they stay exact at r = 0:
 //   r_d/r = φ/(ω·r) = k/(ω·D·sinc φ)          → k/(ω·z) on the axis,
 //   sin θ/r_d = ω·sinc φ/E                    → ω/k.
@@ -30,6 +30,7 @@
 
 #include <Eigen/Core>
 #include <omnidso/cameras/affine_intrinsics.hpp>
+#include <omnidso/cameras/angle_ratios.hpp>
 #include <array>
 #include <cmath>
 
@@ -94,8 +95,8 @@ class FovCamera {
       // G = (k z r/D² − φ)/(ω r³); k z r/D² = sin φ cos φ and r = D sin φ/k turn it into
       // G = −k³ h(φ)/(ω D³ sinc³φ), h = (φ − sin φ cos φ)/φ³ (→ 2/3 on the axis).
       // ∂a/∂z = −k/(ω D²).
-      const Scalar G = -k * k * k * inv_omega * h(phi, sin_phi, p.z() / D) * inv_D_sinc *
-                       inv_D_sinc * inv_D_sinc;
+      const Scalar h = angleMinusSinCosOverCube(phi, sin_phi, p.z() / D);
+      const Scalar G = -k * k * k * inv_omega * h * inv_D_sinc * inv_D_sinc * inv_D_sinc;
       const Scalar da_dz = -k * inv_omega / D2;
       d_uv_d_p->row(0) << fx * (a + p.x() * p.x() * G), fx * p.x() * p.y() * G,
           fx * p.x() * da_dz;
@@ -144,9 +145,9 @@ class FovCamera {
       // g = s'/r_d = (cos θ θ' r_d − sin θ)/r_d³ = ω³ (k² cos φ h(φ) − sinc³φ)/E³ after
       // φ − sin φ cos φ = φ³ h(φ) and r_d = φ/ω. ∂cos θ/∂m = −sin θ θ'/r_d m = −s ω k/E² m.
       const Scalar inv_E2 = inv_E * inv_E;
-      const Scalar g = omega * omega * omega *
-                       (k * k * cos_phi * h(phi, sin_phi, cos_phi) - sc * sc * sc) * inv_E2 *
-                       inv_E;
+      const Scalar h = angleMinusSinCosOverCube(phi, sin_phi, cos_phi);
+      const Scalar g =
+          omega * omega * omega * (k * k * cos_phi * h - sc * sc * sc) * inv_E2 * inv_E;
       const Scalar dc = -s * omega * k * inv_E2;
       Mat32 d_b_d_m;
       d_b_d_m.row(0) << s + g * mx * mx, g * mx * my;
@@ -174,25 +175,6 @@ class FovCamera {
   }
 
  private:
-  // sin φ/φ; below φ = 1e-4 its series 1 − φ²/6, whose next term φ⁴/120 is under 1e-18.
-  static Scalar sinc(const Scalar& phi, const Scalar& sin_phi) {
-    if (phi < Scalar(1e-4)) return Scalar(1) - phi * phi / Scalar(6);
-    return sin_phi / phi;
-  }
-  // h(φ) = (φ − sin φ cos φ)/φ³ = (2φ − sin 2φ)/(2φ³). The direct form cancels (error ε/φ²),
-  // so below φ = 0.1 the Taylor series of sin 2φ gives
-  // 2/3 − 2φ²/15 + 4φ⁴/315 − 2φ⁶/2835 + 4φ⁸/155925 (next term 2^12 φ^10/13! < 1e-16 there).
-  static Scalar h(const Scalar& phi, const Scalar& sin_phi, const Scalar& cos_phi) {
-    const Scalar p2 = phi * phi;
-    if (phi < Scalar(0.1)) {
-      return Scalar(2.0 / 3.0) +
-             p2 * (Scalar(-2.0 / 15.0) +
-                   p2 * (Scalar(4.0 / 315.0) +
-                         p2 * (Scalar(-2.0 / 2835.0) + p2 * Scalar(4.0 / 155925.0))));
-    }
-    return (phi - sin_phi * cos_phi) / (p2 * phi);
-  }
-
   VecN params_;
 };
 

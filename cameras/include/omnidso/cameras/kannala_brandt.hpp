@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 #include <omnidso/cameras/affine_intrinsics.hpp>
+#include <omnidso/cameras/angle_ratios.hpp>
 #include <array>
 #include <cmath>
 
@@ -81,7 +82,7 @@ class KannalaBrandtCamera {
       const Scalar R = polyR(t2);
       const Scalar cos_theta = p.z() / rho;
       const Scalar G = (R * sc * cos_theta -
-                        P * thetaMinusSinCosOverCube(theta, r / rho, cos_theta)) *
+                        P * angleMinusSinCosOverCube(theta, r / rho, cos_theta)) *
                        inv_rho_sinc * inv_rho_sinc * inv_rho_sinc;
       const Scalar da_dz = -Q / rho2;
       *d_uv_d_p << fx * (a + p.x() * p.x() * G), fx * p.x() * p.y() * G, fx * p.x() * da_dz,
@@ -128,7 +129,7 @@ class KannalaBrandtCamera {
       // g = s'(θd)/θd = (P h(θ) − sinc θ · R)/(Q P³), h = (θ cos θ − sin θ)/θ³.
       // ∂cos θ/∂m = −sin θ/(Q θd) m = −(s/Q) m.
       const Scalar inv_Q = Scalar(1) / Q;
-      const Scalar g = (P * thetaCosMinusSinOverCube(theta, sin_theta, cos_theta) -
+      const Scalar g = (P * angleCosMinusSinOverCube(theta, sin_theta, cos_theta) -
                         sc * polyR(t2)) *
                        inv_Q / (P * P * P);
       Mat32 d_b_d_m;
@@ -216,38 +217,6 @@ class KannalaBrandtCamera {
     theta -= (theta * polyP(t2) - theta_d) / polyQ(t2);
     return converged && theta >= Scalar(0) && theta < Scalar(M_PI) &&
            polyQ(theta * theta) > Scalar(0);
-  }
-
-  // sin θ/θ; below θ = 1e-4 its series 1 − θ²/6, whose next term θ⁴/120 is under 1e-18.
-  static Scalar sinc(const Scalar& theta, const Scalar& sin_theta) {
-    if (theta < Scalar(1e-4)) return Scalar(1) - theta * theta / Scalar(6);
-    return sin_theta / theta;
-  }
-  // (θ − sin θ cos θ)/θ³ = (2θ − sin 2θ)/(2θ³): the direct form cancels (error ε/θ²), so
-  // below θ = 0.1 use the series 2/3 − 2θ²/15 + 4θ⁴/315 − 2θ⁶/2835 + 4θ⁸/155925 (next term
-  // under 1e-16 there).
-  static Scalar thetaMinusSinCosOverCube(const Scalar& theta, const Scalar& sin_theta,
-                                         const Scalar& cos_theta) {
-    const Scalar t2 = theta * theta;
-    if (theta < Scalar(0.1)) {
-      return Scalar(2.0 / 3.0) +
-             t2 * (Scalar(-2.0 / 15.0) +
-                   t2 * (Scalar(4.0 / 315.0) +
-                         t2 * (Scalar(-2.0 / 2835.0) + t2 * Scalar(4.0 / 155925.0))));
-    }
-    return (theta - sin_theta * cos_theta) / (t2 * theta);
-  }
-  // (θ cos θ − sin θ)/θ³, series −1/3 + θ²/30 − θ⁴/840 + θ⁶/45360 − θ⁸/3991680 below 0.1.
-  static Scalar thetaCosMinusSinOverCube(const Scalar& theta, const Scalar& sin_theta,
-                                         const Scalar& cos_theta) {
-    const Scalar t2 = theta * theta;
-    if (theta < Scalar(0.1)) {
-      return Scalar(-1.0 / 3.0) +
-             t2 * (Scalar(1.0 / 30.0) +
-                   t2 * (Scalar(-1.0 / 840.0) +
-                         t2 * (Scalar(1.0 / 45360.0) + t2 * Scalar(-1.0 / 3991680.0))));
-    }
-    return (theta * cos_theta - sin_theta) / (t2 * theta);
   }
 
   VecN params_;
