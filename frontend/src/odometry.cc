@@ -119,17 +119,17 @@ Odometry::Odometry(const Camera& camera, OdometryOptions options, const Mask& im
                 "' has distortion; rectify the images to '" +
                 camera.undistortedModel().modelName() + "' first");
   if (options.race.keyframes < 2 || options.race.keyframes > options.window.max_keyframes ||
-      !(options.race.switch_gain > 0.0) || options.race.max_frames < 1)
+      !(options.race.switch_gain > 0.0) || options.race.max_frames < 1 ||
+      !(options.race.rival_snap_translation_start_gain > 0.0))
     throw Error("Odometry: race.keyframes must lie in 2 … window.max_keyframes, "
-                "race.switch_gain be > 0 and race.max_frames ≥ 1 (got " +
+                "race.switch_gain and race.rival_snap_translation_start_gain be > 0 and "
+                "race.max_frames ≥ 1 (got " +
                 std::to_string(options.race.keyframes) + ", " +
                 std::to_string(options.race.switch_gain) + ", " +
+                std::to_string(options.race.rival_snap_translation_start_gain) + ", " +
                 std::to_string(options.race.max_frames) + ")");
-  if (raceApplies(options)) {
-    OdometryOptions rival = options;
-    rival.initializer.snap_parallax_deg = options.race.rival_snap_parallax_deg;
-    rival_ = std::make_unique<Impl>(camera, std::move(rival), image_mask);
-  }
+  if (raceApplies(options))
+    rival_ = std::make_unique<Impl>(camera, raceRivalOptions(options), image_mask);
   impl_ = std::make_unique<Impl>(camera, std::move(options), image_mask);
 }
 

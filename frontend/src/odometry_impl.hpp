@@ -16,6 +16,7 @@
 // so records stay put); everything else belongs to one side.
 
 #include <Eigen/Core>
+#include <array>
 #include <deque>
 #include <functional>
 #include <limits>
@@ -95,10 +96,11 @@ struct Odometry::Impl {
   Eigen::VectorXd last_intrinsics;  // of the last finished segment
   // The initialisation race (odometry.hpp): the window's cost RMS once segment 0's window
   // first held race.keyframes keyframes (NaN before), and segment 0's initial pair's first
-  // frame and the frame it snapped at (−1 before): two starts that agree on both computed the
-  // same, their acceptance included.
+  // frame, the frame it snapped at (−1 before) and the pair's pose: two starts that agree on
+  // all three computed the same, their acceptance included.
   double race_cost = std::numeric_limits<double>::quiet_NaN();
   int race_first_frame = -1, race_snap_frame = -1;
+  std::array<double, 7> race_initial_pose{};
   void noteRaceCost(const WindowSolveSummary& summary);
 
   // odometry.cc ------------------------------------------------------------------------

@@ -63,6 +63,7 @@ void Odometry::Impl::initialize(FrameRecord& record, std::shared_ptr<const Image
   if (segment == 0) {
     race_first_frame = first.index;
     race_snap_frame = first.index + init.snapped_at;
+    init.T_frame_first.toParameters(race_initial_pose.data());
   }
   window->removeOutliers();
   refreshKeyframeRecords();

@@ -13,6 +13,13 @@ bool raceApplies(const OdometryOptions& o) {
          o.race.rival_snap_parallax_deg < snapParallaxDeg(o.initializer);
 }
 
+OdometryOptions raceRivalOptions(const OdometryOptions& options) {
+  OdometryOptions rival = options;
+  rival.initializer.snap_parallax_deg = options.race.rival_snap_parallax_deg;
+  rival.initializer.snap_translation_start_gain = options.race.rival_snap_translation_start_gain;
+  return rival;
+}
+
 void Odometry::Impl::noteRaceCost(const WindowSolveSummary& summary) {
   if (segment != 0 || !std::isnan(race_cost) || summary.num_residuals <= 0 ||
       window->numKeyframes() < options.race.keyframes)
@@ -23,9 +30,11 @@ void Odometry::Impl::noteRaceCost(const WindowSolveSummary& summary) {
 void Odometry::settleRace() {
   const Impl& mine = *impl_;
   const Impl& rival = *rival_;
-  // A rival that snapped on the same frame from the same first frame computed the same.
+  // A rival that snapped on the same frame from the same first frame and adopted the same
+  // start there (its initial pose the same, bit for bit) computed the same.
   const bool twins = mine.race_snap_frame >= 0 && mine.race_snap_frame == rival.race_snap_frame &&
-                     mine.race_first_frame == rival.race_first_frame;
+                     mine.race_first_frame == rival.race_first_frame &&
+                     mine.race_initial_pose == rival.race_initial_pose;
   // A side that lost tracking before its window held race.keyframes keyframes: infinite cost.
   const double inf = std::numeric_limits<double>::infinity();
   const double mine_cost = mine.segment > 0 && std::isnan(mine.race_cost) ? inf : mine.race_cost;

@@ -235,8 +235,7 @@ TEST(OdometryEndToEnd, InitialisationRaceRunsAsTheStartItKeeps) {
     cli::DatasetRunOptions alone;
     alone.odometry.window.max_keyframes = 3;
     alone.odometry.race.rival_snap_parallax_deg = 0.0;  // no race
-    if (take_rival)
-      alone.odometry.initializer.snap_parallax_deg = raced.odometry.race.rival_snap_parallax_deg;
+    if (take_rival) alone.odometry.initializer = raceRivalOptions(raced.odometry).initializer;
     const cli::DatasetRun single = cli::runOdometryOnDataset(index, alone);
 
     const std::vector<KeyframeRecord> a = race.odometry->keyframes();

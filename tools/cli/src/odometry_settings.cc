@@ -124,6 +124,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"race.keyframes", &o.race.keyframes},
       {"race.switch_gain", &o.race.switch_gain},
       {"race.max_frames", &o.race.max_frames},
+      {"race.rival_snap_translation_start_gain", &o.race.rival_snap_translation_start_gain},
       {"initializer.max_rmse", &o.initializer.max_rmse},
       {"initializer.min_points", &o.initializer.min_points},
       {"initializer.max_frames", &o.initializer.max_frames},

@@ -44,6 +44,12 @@ namespace omnidso {
 // below `switch_gain` × the other's. On the same frames a wrong basin's cost was 1.4–3.2× a
 // right one's, two right ones within 0.87–1.11× of each other (docs/performance.md, "The
 // initial pair's basin through a narrow view").
+// At its snap the rival adopts the lowest-error start (`rival_snap_translation_start_gain`, the
+// initialiser's snap_translation_start_gain, 1: the lowest): the configured start's 0.8× rule
+// keeps the pre-snap path's solution unless another is clearly better, and in a fast turn
+// under motion blur the right basin's two-frame error was only 0.98–0.99× the wrong one's
+// (docs/performance.md, "A start inside a fast turn"). Between the two starts the race, not the
+// two-frame error, decides.
 // Until then every frame is processed twice (the frames' timings count one side, the wall
 // time both) and the accessors show the configured start; a rival that snaps on the
 // configured start's frame would repeat it and is dropped then. Later segments (after a
@@ -53,6 +59,7 @@ struct InitializationRaceOptions {
   int keyframes = 3;                     // 2 … the window's size
   double switch_gain = 0.8;
   int max_frames = 200;                  // undecided after this many frames: the rival is dropped
+  double rival_snap_translation_start_gain = 1.0;  // > 0; the configured start's: 0.8
 };
 
 struct OdometryOptions {
@@ -182,6 +189,10 @@ struct OdometryPoint {
 // in 40 lost their scale in a fast turn, none with this margin (docs/performance.md, "A 120°
 // image circle in a fast turn").
 int defaultContentMarginPx(int pattern_spread);
+
+// The rival's options (InitializationRaceOptions): the configured ones with the rival's snap
+// angle and snap start gain.
+OdometryOptions raceRivalOptions(const OdometryOptions& options);
 
 class Odometry {
  public:
