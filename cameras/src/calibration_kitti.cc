@@ -75,7 +75,8 @@ Camera loadKittiCalib(const std::string& path, int width, int height) {
     const double fx = p[0], cx = p[2], fy = p[5], cy = p[6];
     if (!(fx > 0.0) || !(fy > 0.0)) {
       throw fileError(path, line_no,
-                      fmt::format("P0: focal lengths must be positive, got fx {} and fy {}", fx, fy));
+                      fmt::format("P0: focal lengths must be positive, got fx {} and fy {}", fx,
+                                  fy));
     }
     // KITTI's principal point is in OpenCV's convention, the top-left pixel's centre at
     // (0, 0), as this project's: no half-pixel shift.

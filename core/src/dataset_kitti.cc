@@ -5,6 +5,9 @@
 // image_0/<i, 6 digits>.png.
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 

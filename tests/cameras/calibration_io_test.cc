@@ -370,7 +370,8 @@ TEST_F(CalibrationIoTest, ReadsKittiCalibP0AtTheGivenImageSize) {
   // KITTI's principal point is already pixel-centred (OpenCV's convention): no 0.5 shift.
   EXPECT_EQ(camera.params(), vec({707.0912, 707.0912, 601.8873, 183.1104}));
   // P0 after the other lines is found too.
-  const std::string reordered = write("calib_reordered.txt", std::string(kKitti07Rest) + kKitti07P0);
+  const std::string reordered =
+      write("calib_reordered.txt", std::string(kKitti07Rest) + kKitti07P0);
   EXPECT_EQ(detectCalibrationFormat(reordered), CalibrationFormat::kKittiCalib);
   EXPECT_EQ(loadKittiCalib(reordered, 1241, 376).params()[2], 601.8873);
   // DSO's camera.txt, also .txt, is still told apart.

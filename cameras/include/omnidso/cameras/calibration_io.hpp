@@ -38,10 +38,11 @@
 //
 // KITTI odometry calib.txt (dataset/sequences/NN/calib.txt): lines `P0: 12 numbers`, `P1:`,
 // `P2:`, `P3:` (the rectified projections of image_0..image_3) and `Tr:` (velodyne → camera
-// 0), each a 3×4 matrix row-major. Only P0 = K·[I|0] is read: fx = P0[0], cx = P0[2],
-// fy = P0[5], cy = P0[6], a pinhole without distortion (the images are rectified), the
-// principal point with the top-left pixel's centre at (0, 0) as ours. The file has no image
-// size: it comes from the images, so loadKittiCalib takes it and loadCalibration refuses.
+// 0), each a 3×4 matrix row-major. Only P0 = K·[I|t] is read (t = 0 for camera 0; a skew or
+// rotation is refused): fx = P0[0], cx = P0[2], fy = P0[5], cy = P0[6], a pinhole without
+// distortion (the images are rectified), the principal point with the top-left pixel's
+// centre at (0, 0) as ours. The file has no image size: it comes from the images, so
+// loadKittiCalib takes it and loadCalibration refuses.
 //
 // Kalibr's camera–IMU extrinsics: `T_cam_imu`, four rows of four numbers, maps IMU-frame
 // coordinates into the camera frame (x_cam = T_cam_imu · x_imu), so T_body_sensor =
