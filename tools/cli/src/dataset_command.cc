@@ -39,7 +39,7 @@ std::string groundTruthFrame(GroundTruthKind kind, const std::string& extrinsics
     case GroundTruthKind::kBodyAsl:
       return "body, composed with the extrinsics in " + extrinsics_source;
     case GroundTruthKind::kCameraKitti:
-      return "camera (KITTI poses, one per frame of times.txt)";
+      return "camera, one KITTI pose per frame";
     case GroundTruthKind::kCameraTum:
     case GroundTruthKind::kNone:
       break;
@@ -140,7 +140,8 @@ void printInfo(const nlohmann::json& info) {
 }  // namespace
 
 void registerDatasetCommand(CLI::App& app) {
-  CLI::App* cmd = app.add_subcommand("dataset", "inspect a dataset (TUM or ASL layout)");
+  CLI::App* cmd =
+      app.add_subcommand("dataset", "inspect a dataset (TUM, ASL or KITTI odometry layout)");
   cmd->require_subcommand(1);
   auto args = std::make_shared<DatasetInfoArguments>();
   CLI::App* info = cmd->add_subcommand(

@@ -1,6 +1,7 @@
 // Camera and camera-frame ground truth of a dataset (dataset_loading.hpp).
 #include <omnidso/synth/dataset_loading.hpp>
 
+#include <charconv>
 #include <filesystem>
 #include <string>
 
@@ -52,19 +53,31 @@ BodyToCamera bodyToCamera(const DatasetIndex& index) {
 
 namespace {
 
+// The KITTI layout's frame id is the frame's position in times.txt ("000042" → 42).
+std::size_t kittiFramePosition(const DatasetFrame& frame) {
+  std::size_t position = 0;
+  const char* end = frame.id.data() + frame.id.size();
+  const auto [ptr, ec] = std::from_chars(frame.id.data(), end, position);
+  if (ec != std::errc() || ptr != end || frame.id.empty()) {
+    throw fileError(frame.index_file, frame.index_line,
+                    fmt::format("frame id '{}' is not a KITTI frame number", frame.id));
+  }
+  return position;
+}
+
 // KITTI's poses/NN.txt holds one pose per frame position, without timestamps (the reader
-// stamps pose k with k). Frame ids of the KITTI layout are those positions, so a frame keeps
-// its pose when --skip-missing dropped others before it, and the result carries the frames'
-// timestamps for the evaluation's association.
+// stamps pose k with k). Each frame takes the pose of its position, so that it keeps its own
+// when --skip-missing dropped others before it (or a comment line shifted times.txt's lines),
+// at the frame's timestamp, which the evaluation associates by.
 Trajectory kittiGroundTruth(const DatasetIndex& index) {
   const std::string& path = *index.groundtruth_path;
   const Trajectory by_position = readTrajectory(path, TrajectoryFormat::kKitti);
   Trajectory poses;
   poses.reserve(index.frames.size());
   for (const DatasetFrame& frame : index.frames) {
-    const std::size_t position = std::stoul(frame.id);
+    const std::size_t position = kittiFramePosition(frame);
     if (position >= by_position.size()) {
-      const std::size_t needed = std::stoul(index.frames.back().id) + 1;
+      const std::size_t needed = kittiFramePosition(index.frames.back()) + 1;
       throw fileError(path, fmt::format("{} poses, but the frames need {}: the first without one "
                                         "is frame {} ({}:{})",
                                         by_position.size(), needed, frame.id, frame.index_file,
