@@ -105,7 +105,15 @@ void handleMissingImages(const std::vector<DatasetFrame>& missing, bool skip,
 }  // namespace dataset_detail
 
 const char* datasetLayoutName(DatasetLayout layout) {
-  return layout == DatasetLayout::kTum ? "tum" : "asl";
+  switch (layout) {
+    case DatasetLayout::kTum:
+      return "tum";
+    case DatasetLayout::kAsl:
+      return "asl";
+    case DatasetLayout::kKitti:
+      return "kitti";
+  }
+  return "unknown";
 }
 
 DatasetIndex openDataset(const std::string& path, const DatasetOpenOptions& options) {
@@ -123,14 +131,19 @@ DatasetIndex dataset_detail::openDatasetIndex(const std::string& path,
   if (!fs::is_directory(path)) throw fileError(path, "dataset directory not found");
   const fs::path root(path);
   dataset_detail::LayoutIndex layout;
-  if (fs::exists(root / "times.txt") || fs::exists(root / "images")) {
+  // KITTI before TUM: both have times.txt; images/ keeps a directory TUM.
+  if (fs::is_directory(root / "image_0") && fs::exists(root / "calib.txt") &&
+      !fs::exists(root / "images")) {
+    layout = dataset_detail::readKittiIndex(path);
+  } else if (fs::exists(root / "times.txt") || fs::exists(root / "images")) {
     layout = dataset_detail::readTumIndex(path);
   } else if (fs::exists(root / "mav0")) {
     layout = dataset_detail::readAslIndex(path);
   } else {
     throw fileError(path,
-                    "not a dataset: expected times.txt and images/ (TUM layout) or "
-                    "mav0/cam0/data.csv (ASL layout)");
+                    "not a dataset: expected times.txt and images/ (TUM layout), "
+                    "mav0/cam0/data.csv (ASL layout) or times.txt, image_0/ and calib.txt "
+                    "(KITTI odometry layout)");
   }
   DatasetIndex& index = layout.index;
   dataset_detail::handleMissingImages(layout.missing_images, options.skip_missing_images, index);

@@ -1,5 +1,6 @@
 #pragma once
-// Internals shared by the dataset readers (dataset.cc, dataset_tum.cc, dataset_asl.cc).
+// Internals shared by the dataset readers (dataset.cc, dataset_tum.cc, dataset_asl.cc,
+// dataset_kitti.cc).
 
 #include <omnidso/core/dataset.hpp>
 
@@ -22,6 +23,7 @@ DatasetIndex openDatasetIndex(const std::string& path, const DatasetOpenOptions&
 
 LayoutIndex readTumIndex(const std::string& root);
 LayoutIndex readAslIndex(const std::string& root);
+LayoutIndex readKittiIndex(const std::string& root);
 
 // Splits a line on whitespace and/or commas.
 std::vector<std::string> splitFields(const std::string& line);

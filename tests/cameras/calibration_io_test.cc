@@ -347,5 +347,80 @@ TEST_F(CalibrationIoTest, ReadsKalibrCameraImuExtrinsics) {
             std::string::npos);
 }
 
+// KITTI odometry sequence 07's calib.txt (P0..P3 and Tr; P1's −P0[0]·baseline in P1[3]).
+const char* const kKitti07P0 =
+    "P0: 7.070912000000e+02 0.000000000000e+00 6.018873000000e+02 0.000000000000e+00 "
+    "0.000000000000e+00 7.070912000000e+02 1.831104000000e+02 0.000000000000e+00 "
+    "0.000000000000e+00 0.000000000000e+00 1.000000000000e+00 0.000000000000e+00\n";
+const char* const kKitti07Rest =
+    "P1: 7.070912000000e+02 0.000000000000e+00 6.018873000000e+02 -3.798145000000e+02 "
+    "0.000000000000e+00 7.070912000000e+02 1.831104000000e+02 0.000000000000e+00 "
+    "0.000000000000e+00 0.000000000000e+00 1.000000000000e+00 0.000000000000e+00\n"
+    "Tr: -1.857739385241e-03 -9.999659513510e-01 -8.039975204516e-03 -4.784029760483e-03 "
+    "-6.481465826011e-03 8.051860151134e-03 -9.999466081774e-01 -7.337429464231e-02 "
+    "9.999773098287e-01 -1.805528627661e-03 -6.496203536139e-03 -3.339968064433e-01\n";
+
+TEST_F(CalibrationIoTest, ReadsKittiCalibP0AtTheGivenImageSize) {
+  const std::string file = write("calib.txt", std::string(kKitti07P0) + kKitti07Rest);
+  EXPECT_EQ(detectCalibrationFormat(file), CalibrationFormat::kKittiCalib);
+  const Camera camera = loadKittiCalib(file, 1226, 370);
+  EXPECT_EQ(camera.modelName(), "pinhole");
+  EXPECT_EQ(camera.width(), 1226);
+  EXPECT_EQ(camera.height(), 370);
+  // KITTI's principal point is already pixel-centred (OpenCV's convention): no 0.5 shift.
+  EXPECT_EQ(camera.params(), vec({707.0912, 707.0912, 601.8873, 183.1104}));
+  // P0 after the other lines is found too.
+  const std::string reordered =
+      write("calib_reordered.txt", std::string(kKitti07Rest) + kKitti07P0);
+  EXPECT_EQ(detectCalibrationFormat(reordered), CalibrationFormat::kKittiCalib);
+  EXPECT_EQ(loadKittiCalib(reordered, 1241, 376).params()[2], 601.8873);
+  // DSO's camera.txt, also .txt, is still told apart.
+  const std::string dso = write("camera.txt", "Pinhole 400 400 320 240 0\n640 480\n");
+  EXPECT_EQ(detectCalibrationFormat(dso), CalibrationFormat::kDsoCameraTxt);
+}
+
+TEST_F(CalibrationIoTest, LoadCalibrationSendsKittiCalibToItsDataset) {
+  const std::string file = write("calib.txt", std::string(kKitti07P0) + kKitti07Rest);
+  const std::string message = loadError(file);
+  EXPECT_NE(message.find(file + ": KITTI's calib.txt has no image size"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("datasetCamera"), std::string::npos) << message;
+}
+
+TEST_F(CalibrationIoTest, KittiCalibErrorsNameTheFileAndLine) {
+  auto error = [&](const std::string& name, const std::string& content) {
+    const std::string file = write(name, content);
+    try {
+      loadKittiCalib(file, 1241, 376);
+    } catch (const Error& e) {
+      return std::string(e.what()).substr(file.size());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(error("short.txt", std::string(kKitti07Rest) + "P0: 707 0 601 0 0 707 183 0 0 0 1\n"),
+            ":3: P0 takes 12 numbers (a 3x4 projection matrix, row-major), got 11");
+  EXPECT_EQ(error("word.txt", "P0: 707 0 601 0 0 707 18x3 0 0 0 1 0\n"),
+            ":1: P0: '18x3' is not a number");
+  EXPECT_EQ(error("nan.txt", "P0: 707 0 601 0 0 nan 183 0 0 0 1 0\n"),
+            ":1: P0: 'nan' is not finite");
+  EXPECT_EQ(error("fx.txt", "P0: -707 0 601 0 0 707 183 0 0 0 1 0\n"),
+            ":1: P0: focal lengths must be positive, got fx -707 and fy 707");
+  EXPECT_EQ(error("fy.txt", "P0: 707 0 601 0 0 0 183 0 0 0 1 0\n"),
+            ":1: P0: focal lengths must be positive, got fx 707 and fy 0");
+  EXPECT_EQ(error("skew.txt", "P0: 707 0.5 601 0 0 707 183 0 0 0 1 0\n").find(
+                ":1: P0 is not a rectified pinhole"),
+            0u);
+  EXPECT_EQ(error("no_p0.txt", kKitti07Rest),
+            ": no 'P0:' line (KITTI's calib.txt holds image_0's projection there)");
+  // An image size Camera refuses is reported at P0's line too.
+  const std::string file = write("size.txt", kKitti07P0);
+  try {
+    loadKittiCalib(file, 0, 376);
+    ADD_FAILURE() << "a 0-pixel-wide image was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).find(file + ":1: "), 0u) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace omnidso

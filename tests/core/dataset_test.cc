@@ -1,4 +1,5 @@
-// The dataset readers: TUM mono/omni and ASL layouts, and each bad-dataset error.
+// The dataset readers: TUM mono/omni, ASL and KITTI odometry layouts, and each bad-dataset
+// error.
 #include <omnidso/core/dataset.hpp>
 
 #include <gtest/gtest.h>
@@ -315,6 +316,130 @@ TEST(DatasetTest, ReadsEurocStaticClip) {
   EXPECT_NO_THROW(verifyDatasetImages(index));
   const ImageU8 first = readDatasetFrame(index, 0);
   EXPECT_EQ(first.width(), 752);
+}
+
+// KITTI odometry: DIR = dataset/sequences/07 with three 16×12 frames in image_0/ (image_1/,
+// the right camera, ignored), one timestamp per times.txt line, and calib.txt.
+fs::path writeKittiSequence(const fs::path& root) {
+  const fs::path sequence = root / "dataset" / "sequences" / "07";
+  fs::create_directories(sequence / "image_0");
+  fs::create_directories(sequence / "image_1");
+  for (int i = 0; i < 3; ++i) {
+    const std::string name = "00000" + std::to_string(i) + ".png";
+    writeGreyImage(sequence / "image_0" / name, 16, 12, 10 * (i + 1));
+    writeGreyImage(sequence / "image_1" / name, 16, 12, 99);
+  }
+  writeText(sequence / "times.txt", "0.000000e+00\n1.036224e-01\n2.072448e-01\n");
+  writeText(sequence / "calib.txt", "P0: 10 0 7.5 0 0 10 5.5 0 0 0 1 0\n");
+  return sequence;
+}
+
+TEST(DatasetTest, ReadsKittiOdometryLayoutWithItsPoses) {
+  TempDir tmp("kitti");
+  const fs::path sequence = writeKittiSequence(tmp.path());
+  fs::create_directories(tmp.path() / "dataset" / "poses");
+  const fs::path poses = tmp.path() / "dataset" / "poses" / "07.txt";
+  writeText(poses, "1 0 0 0 0 1 0 0 0 0 1 0\n");
+  // With and without a trailing separator, as a shell's completion leaves it.
+  for (const std::string& dir : {sequence.string(), sequence.string() + "/"}) {
+    const DatasetIndex index = openDataset(dir);
+    EXPECT_EQ(index.layout, DatasetLayout::kKitti) << dir;
+    EXPECT_STREQ(datasetLayoutName(index.layout), "kitti");
+    ASSERT_EQ(index.frames.size(), 3u);
+    EXPECT_EQ(index.frames[0].id, "000000");
+    EXPECT_EQ(index.frames[2].id, "000002");
+    EXPECT_EQ(fs::path(index.frames[2].image_path), sequence / "image_0" / "000002.png");
+    EXPECT_DOUBLE_EQ(index.frames[1].timestamp_s, 0.1036224);
+    EXPECT_EQ(index.frames[1].exposure_ms, 0.0);  // KITTI records none
+    EXPECT_EQ(index.frames[2].index_line, 3);
+    EXPECT_EQ(fs::path(index.frames[2].index_file), sequence / "times.txt");
+    EXPECT_EQ(index.width, 16);
+    EXPECT_EQ(index.height, 12);
+    ASSERT_EQ(index.calibration_paths.size(), 1u);
+    EXPECT_EQ(fs::path(index.calibration_paths[0]), sequence / "calib.txt");
+    EXPECT_FALSE(index.pcalib_path.has_value());
+    EXPECT_FALSE(index.vignette_path.has_value());
+    EXPECT_EQ(index.groundtruth_kind, GroundTruthKind::kCameraKitti);
+    ASSERT_TRUE(index.groundtruth_path.has_value());
+    EXPECT_TRUE(fs::equivalent(*index.groundtruth_path, poses)) << *index.groundtruth_path;
+    EXPECT_EQ(readDatasetFrame(index, 2)(3, 3), 30);  // image_0, not image_1
+  }
+
+  // Sequences 11–21 have no poses: no ground truth, and no error.
+  fs::remove(poses);
+  const DatasetIndex index = openDataset(sequence.string());
+  EXPECT_EQ(index.groundtruth_kind, GroundTruthKind::kNone);
+  EXPECT_FALSE(index.groundtruth_path.has_value());
+}
+
+// Frame numbers count timestamps, not lines: a blank or comment line shifts the line, not the
+// image.
+TEST(DatasetTest, KittiFramesAreNumberedByTimestampNotByLine) {
+  TempDir tmp("kitti_blank");
+  const fs::path sequence = writeKittiSequence(tmp.path());
+  writeText(sequence / "times.txt", "# t\n0.0\n\n0.1\n0.2\n\n");
+  const DatasetIndex index = openDataset(sequence.string());
+  ASSERT_EQ(index.frames.size(), 3u);
+  EXPECT_EQ(index.frames[1].id, "000001");
+  EXPECT_EQ(index.frames[1].index_line, 4);
+  EXPECT_EQ(fs::path(index.frames[1].image_path).filename(), "000001.png");
+}
+
+TEST(DatasetTest, KittiTimesLineWithOtherThanOneNumberNamesTheLine) {
+  TempDir tmp("kitti_bad_line");
+  const fs::path sequence = writeKittiSequence(tmp.path());
+  writeText(sequence / "times.txt", "0.0\n0.1 12.5\n0.2\n");
+  std::string error = openError(sequence);
+  EXPECT_NE(error.find("times.txt:2: expected one timestamp in seconds (KITTI layout), got 2 "
+                       "fields"),
+            std::string::npos)
+      << error;
+  writeText(sequence / "times.txt", "0.0\n0.1\n0.2s\n");
+  error = openError(sequence);
+  EXPECT_NE(error.find("times.txt:3: timestamp '0.2s' is not a number"), std::string::npos)
+      << error;
+  writeText(sequence / "times.txt", "0.0\n0.1\n0.1\n");
+  error = openError(sequence);
+  EXPECT_NE(error.find("times.txt:3: timestamp"), std::string::npos) << error;
+  EXPECT_NE(error.find("is not after the previous one"), std::string::npos) << error;
+}
+
+TEST(DatasetTest, KittiMissingImagesAreNamedOrSkippedAsInTheOtherLayouts) {
+  TempDir tmp("kitti_missing");
+  const fs::path sequence = writeKittiSequence(tmp.path());
+  fs::remove(sequence / "image_0" / "000001.png");
+  const std::string error = openError(sequence);
+  EXPECT_NE(error.find("times.txt:2: image '"), std::string::npos) << error;
+  EXPECT_NE(error.find("000001.png' not found"), std::string::npos) << error;
+
+  DatasetOpenOptions skip;
+  skip.skip_missing_images = true;
+  const DatasetIndex index = openDataset(sequence.string(), skip);
+  ASSERT_EQ(index.frames.size(), 2u);
+  EXPECT_EQ(index.frames[1].id, "000002");
+  EXPECT_EQ(index.frames[1].index_line, 3);
+  ASSERT_EQ(index.warnings.size(), 1u);
+  EXPECT_NE(index.warnings[0].find("1 frame(s) dropped"), std::string::npos) << index.warnings[0];
+}
+
+// images/ decides for TUM: a TUM directory that also holds an image_0/ and a calib.txt.
+TEST(DatasetTest, DirectoryWithImagesAndImage0StaysTum) {
+  TempDir tmp("kitti_and_tum");
+  writeTumDataset(tmp.path());
+  fs::create_directories(tmp.path() / "image_0");
+  writeGreyImage(tmp.path() / "image_0" / "000000.png", 16, 12, 0);
+  writeText(tmp.path() / "calib.txt", "P0: 10 0 7.5 0 0 10 5.5 0 0 0 1 0\n");
+  const DatasetIndex index = openDataset(tmp.path().string());
+  EXPECT_EQ(index.layout, DatasetLayout::kTum);
+  EXPECT_EQ(index.frames.size(), 3u);
+  EXPECT_EQ(index.frames[1].id, "001");
+
+  // Without images/ the same directory is KITTI (and its times.txt, TUM's, is refused).
+  fs::remove_all(tmp.path() / "images");
+  const std::string error = openError(tmp.path());
+  EXPECT_NE(error.find("times.txt:2: expected one timestamp in seconds (KITTI layout)"),
+            std::string::npos)
+      << error;
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// Camera and camera-frame ground truth of datasets (synth/dataset_loading.hpp).
+// Camera and camera-frame ground truth of datasets (synth/dataset_loading.hpp): ASL, TUM VI
+// and KITTI odometry.
 #include <omnidso/synth/dataset_loading.hpp>
 
 #include <gtest/gtest.h>
@@ -153,6 +154,97 @@ TEST(DatasetLoadingTest, TumViGroundTruthTakesTheExtrinsicsFromItsCamchain) {
                                          "extrinsics"),
               std::string::npos)
         << e.what();
+  }
+}
+
+// A KITTI odometry sequence dataset/sequences/03 of four 32×24 frames, at 0.1 s steps from
+// 0.5 s, and dataset/poses/03.txt whose pose k is a translation of k along x (plus a quarter
+// turn about z for pose 2, so that a rotation mix-up shows); `poses` lines of them.
+fs::path writeKittiSequence(const fs::path& root, int poses) {
+  const fs::path sequence = root / "dataset" / "sequences" / "03";
+  fs::create_directories(sequence / "image_0");
+  std::string times;
+  for (int i = 0; i < 4; ++i) {
+    cv::imwrite((sequence / "image_0" / ("00000" + std::to_string(i) + ".png")).string(),
+                cv::Mat(24, 32, CV_8UC1, cv::Scalar(9)));
+    times += std::to_string(0.5 + 0.1 * i) + "\n";
+  }
+  std::ofstream(sequence / "times.txt") << times;
+  std::ofstream(sequence / "calib.txt") << "P0: 20 0 15.5 0 0 21 11.5 0 0 0 1 0\n"
+                                           "Tr: 1 0 0 0 0 1 0 0 0 0 1 0\n";
+  fs::create_directories(root / "dataset" / "poses");
+  std::ofstream pose_file(root / "dataset" / "poses" / "03.txt");
+  for (int k = 0; k < poses; ++k) {
+    pose_file << (k == 2 ? "0 -1 0 " : "1 0 0 ") << k << (k == 2 ? " 1 0 0 " : " 0 1 0 ")
+              << "0 0 0 1 0\n";
+  }
+  return sequence;
+}
+
+TEST(DatasetLoadingTest, KittiCameraIsP0AtTheImagesSize) {
+  test::TempDir tmp("kitti_camera");
+  const fs::path sequence = writeKittiSequence(tmp.path(), 4);
+  const DatasetIndex index = openDataset(sequence.string());
+  const Camera camera = datasetCamera(index);
+  EXPECT_EQ(camera.modelName(), "pinhole");
+  EXPECT_EQ(camera.width(), 32);
+  EXPECT_EQ(camera.height(), 24);
+  EXPECT_EQ(camera.params(), Eigen::Vector4d(20, 21, 15.5, 11.5));
+  // The same file given with --calib (a copy elsewhere) reads the same way.
+  fs::copy_file(sequence / "calib.txt", tmp.path() / "kitti_calib.txt");
+  EXPECT_EQ(datasetCamera(index, (tmp.path() / "kitti_calib.txt").string()).params(),
+            camera.params());
+}
+
+TEST(DatasetLoadingTest, KittiPosesGoToTheFramesByPositionWithTheirTimestamps) {
+  test::TempDir tmp("kitti_gt");
+  // Six poses for four frames: a clip of a longer sequence, fine.
+  const fs::path sequence = writeKittiSequence(tmp.path(), 6);
+  const DatasetIndex index = openDataset(sequence.string());
+  ASSERT_EQ(index.groundtruth_kind, GroundTruthKind::kCameraKitti);
+  const Trajectory poses = cameraGroundTruth(index);
+  ASSERT_EQ(poses.size(), 4u);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_DOUBLE_EQ(poses[i].timestamp, 0.5 + 0.1 * i) << i;
+    EXPECT_EQ(poses[i].pose.translation(), Eigen::Vector3d(i, 0, 0)) << i;
+  }
+  Eigen::Matrix3d quarter_turn;
+  quarter_turn << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  EXPECT_LT((poses[2].pose.rotationMatrix() - quarter_turn).norm(), 1e-12);
+  EXPECT_LT((poses[1].pose.rotationMatrix() - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+
+  // A comment line shifts times.txt's lines but not the frames, nor their poses.
+  std::ofstream(sequence / "times.txt") << "# KITTI 03\n0.5\n0.6\n0.7\n0.8\n";
+  const Trajectory commented = cameraGroundTruth(openDataset(sequence.string()));
+  ASSERT_EQ(commented.size(), 4u);
+  EXPECT_EQ(commented[3].pose.translation(), Eigen::Vector3d(3, 0, 0));
+
+  // Frame 1's image missing, skipped: frames 2 and 3 keep poses 2 and 3, not 1 and 2.
+  fs::remove(sequence / "image_0" / "000001.png");
+  DatasetOpenOptions skip;
+  skip.skip_missing_images = true;
+  const Trajectory skipped = cameraGroundTruth(openDataset(sequence.string(), skip));
+  ASSERT_EQ(skipped.size(), 3u);
+  EXPECT_DOUBLE_EQ(skipped[1].timestamp, 0.7);
+  EXPECT_EQ(skipped[1].pose.translation(), Eigen::Vector3d(2, 0, 0));
+  EXPECT_LT((skipped[1].pose.rotationMatrix() - quarter_turn).norm(), 1e-12);
+  EXPECT_EQ(skipped[2].pose.translation(), Eigen::Vector3d(3, 0, 0));
+}
+
+TEST(DatasetLoadingTest, KittiPosesEndingBeforeTheFramesAreAnError) {
+  test::TempDir tmp("kitti_short_gt");
+  const fs::path sequence = writeKittiSequence(tmp.path(), 3);
+  const DatasetIndex index = openDataset(sequence.string());
+  try {
+    cameraGroundTruth(index);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("03.txt: 3 poses, but the frames need 4: the first without one is "
+                           "frame 000003 ("),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("times.txt:4)"), std::string::npos) << message;
   }
 }
 

@@ -33,6 +33,20 @@ nlohmann::json optionalPath(const std::optional<std::string>& path) {
   return path ? nlohmann::json(*path) : nlohmann::json(nullptr);
 }
 
+// Whose poses the ground truth holds, for the report.
+std::string groundTruthFrame(GroundTruthKind kind, const std::string& extrinsics_source) {
+  switch (kind) {
+    case GroundTruthKind::kBodyAsl:
+      return "body, composed with the extrinsics in " + extrinsics_source;
+    case GroundTruthKind::kCameraKitti:
+      return "camera, one KITTI pose per frame";
+    case GroundTruthKind::kCameraTum:
+    case GroundTruthKind::kNone:
+      break;
+  }
+  return "camera";
+}
+
 nlohmann::json datasetInfo(const DatasetInfoArguments& args) {
   const DatasetIndex index = openDataset(args.path);
   for (const std::string& warning : index.warnings) std::cerr << "warning: " << warning << "\n";
@@ -85,9 +99,7 @@ nlohmann::json datasetInfo(const DatasetInfoArguments& args) {
       {"ground_truth",
        {{"present", ground_truth.has_value()},
         {"path", optionalPath(index.groundtruth_path)},
-        {"frame", index.groundtruth_kind == GroundTruthKind::kBodyAsl
-                      ? "body, composed with the extrinsics in " + extrinsics_source
-                      : std::string("camera")},
+        {"frame", groundTruthFrame(index.groundtruth_kind, extrinsics_source)},
         {"poses", ground_truth ? ground_truth->size() : 0}}},
   };
   return info;
@@ -128,7 +140,8 @@ void printInfo(const nlohmann::json& info) {
 }  // namespace
 
 void registerDatasetCommand(CLI::App& app) {
-  CLI::App* cmd = app.add_subcommand("dataset", "inspect a dataset (TUM or ASL layout)");
+  CLI::App* cmd =
+      app.add_subcommand("dataset", "inspect a dataset (TUM, ASL or KITTI odometry layout)");
   cmd->require_subcommand(1);
   auto args = std::make_shared<DatasetInfoArguments>();
   CLI::App* info = cmd->add_subcommand(

@@ -1,4 +1,4 @@
-// `omnidso run`: the odometry over a dataset (TUM or ASL layout). Frames are read, corrected
+// `omnidso run`: the odometry over a dataset (TUM, ASL, KITTI). Frames are read, corrected
 // photometrically (pcalib.txt, vignette.png), rectified when the camera has distortion or a
 // pinhole crop is asked for (the paper's "DSO with the pinhole model" baseline), and fed to
 // omnidso::Odometry (dataset_runner.cc); the outputs are written by run_outputs.cc.
@@ -171,7 +171,8 @@ void runOdometry(const RunArguments& args) {
 
 void registerRunCommand(CLI::App& app) {
   auto args = std::make_shared<RunArguments>();
-  CLI::App* cmd = app.add_subcommand("run", "run the odometry on a dataset (TUM or ASL layout)");
+  CLI::App* cmd = app.add_subcommand(
+      "run", "run the odometry on a dataset (TUM, ASL or KITTI odometry layout)");
   cmd->add_option("DATASET", args->dataset, "dataset directory")->required();
   cmd->add_option("--out", args->out, "output directory (refused when non-empty unless --force)")
       ->required();

@@ -1,7 +1,7 @@
 #pragma once
-// Calibration files: Kalibr camchain / camera YAML, DSO's camera.txt, and EuRoC's
-// sensor.yaml (ASL layout). All readers check what they read and throw omnidso::Error
-// whose message names the file and the field (YAML) or line (camera.txt).
+// Calibration files: Kalibr camchain / camera YAML, DSO's camera.txt, EuRoC's sensor.yaml
+// (ASL layout) and KITTI odometry's calib.txt. All readers check what they read and throw
+// omnidso::Error whose message names the file and the field (YAML) or line (text files).
 //
 // Kalibr (`cam0:` level optional):
 //   camera_model: pinhole | omni | eucm | ds
@@ -36,6 +36,14 @@
 // T_BS {rows: 4, cols: 4, data: 16 numbers, row-major} = T_body_sensor. The first line
 // `%YAML:1.0` (OpenCV style, not valid YAML) is skipped.
 //
+// KITTI odometry calib.txt (dataset/sequences/NN/calib.txt): lines `P0: 12 numbers`, `P1:`,
+// `P2:`, `P3:` (the rectified projections of image_0..image_3) and `Tr:` (velodyne → camera
+// 0), each a 3×4 matrix row-major. Only P0 = K·[I|t] is read (t = 0 for camera 0; a skew or
+// rotation is refused): fx = P0[0], cx = P0[2], fy = P0[5], cy = P0[6], a pinhole without
+// distortion (the images are rectified), the principal point with the top-left pixel's
+// centre at (0, 0) as ours. The file has no image size: it comes from the images, so
+// loadKittiCalib takes it and loadCalibration refuses.
+//
 // Kalibr's camera–IMU extrinsics: `T_cam_imu`, four rows of four numbers, maps IMU-frame
 // coordinates into the camera frame (x_cam = T_cam_imu · x_imu), so T_body_sensor =
 // T_cam_imu⁻¹ with the IMU as the body. TUM VI ships them in `dso/camchain.yaml`.
@@ -48,18 +56,24 @@
 
 namespace omnidso {
 
-enum class CalibrationFormat { kKalibr, kDsoCameraTxt, kEurocSensor };
+enum class CalibrationFormat { kKalibr, kDsoCameraTxt, kEurocSensor, kKittiCalib };
 
-// Looks at the content: YAML with `T_BS` or `distortion_coefficients` → EuRoC; YAML with
-// `cam0` or `camera_model` → Kalibr; otherwise camera.txt. Throws for unreadable files and
-// for a .yaml/.yml file that is not valid YAML.
+// Looks at the content: a line starting with `P0:` (not in a .yaml/.yml file) → KITTI;
+// YAML with `T_BS` or `distortion_coefficients` → EuRoC; YAML with `cam0` or `camera_model`
+// → Kalibr; otherwise camera.txt. Throws for unreadable files and for a .yaml/.yml file
+// that is not valid YAML.
 CalibrationFormat detectCalibrationFormat(const std::string& path);
 
-// Any of the three formats (detectCalibrationFormat).
+// Kalibr, camera.txt or sensor.yaml (detectCalibrationFormat). Throws for KITTI's
+// calib.txt, which needs the image size (loadKittiCalib).
 Camera loadCalibration(const std::string& path);
 
 Camera loadKalibr(const std::string& path);
 Camera loadDsoCameraTxt(const std::string& path);
+// A `pinhole` Camera of width × height from P0. Throws, naming the file and line, when there
+// is no P0 line, it has other than 12 numbers, a field is not a finite number, P0 is not of
+// the form K·[I|t] (a skew, a rotation), or fx or fy ≤ 0.
+Camera loadKittiCalib(const std::string& path, int width, int height);
 
 struct SensorCalibration {
   Camera camera;

@@ -1,7 +1,7 @@
 #pragma once
 // Dataset readers: an index of the frames of a sequence on disk, without decoding images.
 //
-// Two layouts (docs/architecture.md, ../shared/design.md):
+// Three layouts (docs/architecture.md, ../shared/design.md):
 // - TUM mono / omni: DIR/times.txt (lines `ID TIMESTAMP_S [EXPOSURE_MS]`, '#' comments),
 //   DIR/images/ID.png|.jpg (ID of any width: the file name without extension), calibration
 //   DIR/camchain.yaml (Kalibr) and/or DIR/camera.txt (DSO), optional DIR/pcalib.txt,
@@ -18,6 +18,14 @@
 //   dso/cam0/vignette.png, and exposure times in dso/cam0/times.txt (`ID_NS TIMESTAMP_S
 //   EXPOSURE_MS`), taken when they cover every frame.
 // Otherwise the ASL layout records no exposure time: exposure_ms is 0, meaning "unknown".
+// - KITTI odometry (DIR = dataset/sequences/NN): DIR/times.txt (one timestamp in seconds per
+//   line, nothing else), DIR/image_0/NNNNNN.png (frame i, 0-based over the timestamp lines of
+//   times.txt, 6 digits; the left grey camera, rectified; image_1/ is ignored), DIR/calib.txt
+//   (P0..P3 and Tr, 3×4 row-major; P0 holds image_0's pinhole, read by omnidso::cameras with
+//   the images' size, which calib.txt lacks). Ground truth of sequences 00–10 in
+//   DIR/../../poses/NN.txt: pose k (3×4 row-major T_world_cam) is frame k's, world = the
+//   first frame's camera. No exposure times. Chosen when DIR has image_0/ and calib.txt but
+//   no images/ (a TUM directory with a stray image_0/ stays TUM).
 //
 // Core does not parse calibration files (that needs omnidso::cameras): the index gives
 // their paths. Bad datasets throw omnidso::Error naming the file and the line.
@@ -32,23 +40,25 @@
 
 namespace omnidso {
 
-enum class DatasetLayout { kTum, kAsl };
+enum class DatasetLayout { kTum, kAsl, kKitti };
 
-const char* datasetLayoutName(DatasetLayout layout);  // "tum" | "asl"
+const char* datasetLayoutName(DatasetLayout layout);  // "tum" | "asl" | "kitti"
 
 // Which frame the ground-truth poses belong to.
 enum class GroundTruthKind {
   kNone,
-  kCameraTum,  // TUM text file `t tx ty tz qx qy qz qw`, T_world_cam
-  kBodyAsl,    // ASL csv `t_ns, px, py, pz, qw, qx, qy, qz, ...`, T_world_body
+  kCameraTum,    // TUM text file `t tx ty tz qx qy qz qw`, T_world_cam
+  kBodyAsl,      // ASL csv `t_ns, px, py, pz, qw, qx, qy, qz, ...`, T_world_body
+  kCameraKitti,  // KITTI poses/NN.txt: a 3×4 T_world_cam per frame position, no timestamps
 };
 
 struct DatasetFrame {
   std::string id;          // image file name without extension, as written in the index
+                           // (KITTI: the frame's position in times.txt, 6 digits)
   std::string image_path;  // absolute or relative to the working directory
   double timestamp_s = 0;
   double exposure_ms = 0;  // 0 = unknown (EuRoC's ASL records none)
-  std::string index_file;  // times.txt or data.csv, and the line of this frame in it,
+  std::string index_file;  // times.txt or data.csv, and the line of this frame in it (1-based),
   int index_line = 0;      // so that errors about the image can point at both
 };
 
@@ -74,7 +84,8 @@ struct DatasetOpenOptions {
   bool skip_missing_images = false;
 };
 
-// Detects the layout (TUM if DIR/times.txt or DIR/images exists, ASL if DIR/mav0 exists),
+// Detects the layout (KITTI if DIR/image_0/ and DIR/calib.txt exist and DIR/images does
+// not, else TUM if DIR/times.txt or DIR/images exists, ASL if DIR/mav0 exists),
 // reads the frame list, checks that every listed image exists (one error naming the index
 // file, the first missing frame's line and the missing images) and that timestamps
 // increase, and reads the first image's size from its header.

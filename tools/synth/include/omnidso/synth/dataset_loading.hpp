@@ -13,8 +13,9 @@
 namespace omnidso::synth {
 
 // The camera from `override_path` if given, else from the dataset's first calibration
-// file (any format loadCalibration detects). Throws omnidso::Error when there is none,
-// when the file is bad (unknown model, ...), or when its resolution differs from the images.
+// file (any format loadCalibration detects, and KITTI's calib.txt, read at the images' size).
+// Throws omnidso::Error when there is none, when the file is bad (unknown model, ...), or
+// when its resolution differs from the images.
 Camera datasetCamera(const DatasetIndex& index, const std::string& override_path = "");
 
 // The camera's pose in the body whose poses an ASL ground truth holds: EuRoC's T_BS from
@@ -27,7 +28,10 @@ struct BodyToCamera {
 };
 BodyToCamera bodyToCamera(const DatasetIndex& index);
 
-// Ground truth as T_world_cam: TUM groundtruth.txt as stored; body poses (ASL csv, TUM VI's
+// Ground truth as T_world_cam: TUM groundtruth.txt as stored; KITTI's poses/NN.txt (pose k
+// is frame k's, no timestamps) as one pose per frame of the index at the frame's timestamp,
+// frames dropped by --skip-missing keeping their own poses (more poses than frames is a clip,
+// fine; fewer is an error naming the file and both counts); body poses (ASL csv, TUM VI's
 // gt_imu.csv) composed with the camera's extrinsics (bodyToCamera), T_world_cam =
 // T_world_body · T_BS, the file they came from written to `extrinsics_source` if given (left
 // as it is for camera poses). Throws omnidso::Error if the dataset has no ground truth, or
