@@ -76,5 +76,45 @@ TEST(EvalTolerance, RepeatedGroundTruthTimestampEvaluatesLikeEvo) {
       << refused.output;
 }
 
+// KITTI poses carry no timestamps. An estimate of keyframes only (TUM, stamped) against KITTI's
+// poses/NN.txt paired by line matched keyframe k with frame k — a silently wrong ATE (here
+// 0.82 m). Without the times that is refused; with KITTI's times.txt the poses are matched by
+// time.
+TEST(EvalTolerance, KittiGroundTruthIsMatchedByItsTimesNotByLine) {
+  const fs::path dir = test::BadInputFixtures::get().caseRoot("eval_kitti_times");
+  // Four frames moving 1 m along x each, 0.1 s apart.
+  test::writeBytes(dir / "poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n"
+                                      "1 0 0 2 0 1 0 0 0 0 1 0\n1 0 0 3 0 1 0 0 0 0 1 0\n");
+  test::writeBytes(dir / "times.txt", "0.000000e+00\n1.000000e-01\n2.000000e-01\n3.000000e-01\n");
+  // Keyframes: frames 0, 2 and 3.
+  test::writeBytes(dir / "keyframes.txt",
+                   "0.0 0 0 0 0 0 0 1\n0.2 2 0 0 0 0 0 1\n0.3 3 0 0 0 0 0 1\n");
+  const std::vector<std::string> arguments = {
+      "--gt", (dir / "poses.txt").string(), "--gt-format", "kitti",
+      "--est", (dir / "keyframes.txt").string(), "--align", "none", "--json"};
+  const EvalRun by_line = runEval(dir, arguments);
+  EXPECT_EQ(by_line.outcome.exit_code, 2) << by_line.output;
+  EXPECT_NE(by_line.output.find("--kitti-times"), std::string::npos) << by_line.output;
+
+  std::vector<std::string> timed = arguments;
+  timed.insert(timed.end(), {"--kitti-times", (dir / "times.txt").string()});
+  const EvalRun run = runEval(dir, timed);
+  ASSERT_TRUE(run.outcome.succeeded()) << run.outcome.describe() << "\n" << run.output;
+  const nlohmann::json result = nlohmann::json::parse(run.output.substr(run.output.find('{')));
+  EXPECT_EQ(result["matched_poses"], 3);
+  // The keyframes are the ground truth's poses at their times: only rounding remains.
+  EXPECT_LT(result["ate"]["rmse"].get<double>(), 1e-12);
+
+  // A times.txt of another length names both files.
+  test::writeBytes(dir / "short_times.txt", "0.0\n0.1\n");
+  timed.back() = (dir / "short_times.txt").string();
+  const EvalRun mismatch = runEval(dir, timed);
+  EXPECT_EQ(mismatch.outcome.exit_code, 2) << mismatch.output;
+  EXPECT_NE(mismatch.output.find("4 poses, but " + (dir / "short_times.txt").string() +
+                                 " lists 2 timestamps"),
+            std::string::npos)
+      << mismatch.output;
+}
+
 }  // namespace
 }  // namespace omnidso

@@ -4,7 +4,10 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include <cmath>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <omnidso/cli/commands.hpp>
@@ -15,6 +18,7 @@
 #include <omnidso/cli/eval_plot.hpp>
 #include <omnidso/core/trajectory_io.hpp>
 #include <string>
+#include <vector>
 
 namespace omnidso::cli {
 namespace {
@@ -33,7 +37,42 @@ struct EvalArguments {
   double drift_window_m = 0.0;  // 0: computeScaleDriftDefaultWindow
   std::string plot;             // PNG: ATE and local scale over time
   bool strict = false;  // refuse repeated or out-of-order timestamps instead of repairing
+  std::string kitti_times;  // KITTI's times.txt: stamps the KITTI-format file's poses
 };
+
+// KITTI's times.txt: one timestamp in seconds per line (blank and '#' lines skipped).
+std::vector<double> readKittiTimes(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw fileError(path, "cannot open (--kitti-times)");
+  std::vector<double> times;
+  int line_number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_number;
+    std::istringstream fields(line);
+    std::string first, extra;
+    if (!(fields >> first) || first[0] == '#') continue;
+    std::size_t used = 0;
+    double t = 0.0;
+    try {
+      t = std::stod(first, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != first.size() || (fields >> extra) || !std::isfinite(t))
+      throw fileError(path, line_number, "expected one timestamp in seconds (KITTI's times.txt)");
+    times.push_back(t);
+  }
+  return times;
+}
+
+// A KITTI file's poses stamped by line (trajectory_io.hpp: pose k at time k), given the times.
+void stampKittiPoses(Trajectory* poses, const std::vector<double>& times,
+                     const std::string& poses_path, const std::string& times_path) {
+  if (poses->size() != times.size())
+    throw fileError(poses_path, fmt::format("{} poses, but {} lists {} timestamps", poses->size(),
+                                            times_path, times.size()));
+  for (std::size_t k = 0; k < times.size(); ++k) (*poses)[k].timestamp = times[k];
+}
 
 nlohmann::ordered_json statisticsJson(const ErrorStatistics& s) {
   return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std},
@@ -112,15 +151,32 @@ void runEval(const EvalArguments& args) {
   const TrajectoryFormat est_format = parseTrajectoryFormat(args.format);
   const TrajectoryFormat gt_format =
       parseTrajectoryFormat(args.gt_format.empty() ? args.format : args.gt_format);
-  const Trajectory gt = readReportingWarnings(args.gt_path, gt_format, args.strict);
-  const Trajectory est = readReportingWarnings(args.est_path, est_format, args.strict);
+  Trajectory gt = readReportingWarnings(args.gt_path, gt_format, args.strict);
+  Trajectory est = readReportingWarnings(args.est_path, est_format, args.strict);
 
   EvaluationOptions options;
   options.alignment = parseAlignmentType(args.align);
   options.max_dt = args.max_dt;
-  // KITTI files carry no timestamps: poses correspond by line.
-  options.associate_by_index =
-      gt_format == TrajectoryFormat::kKitti || est_format == TrajectoryFormat::kKitti;
+  // KITTI files carry no timestamps: with KITTI's times.txt their poses are stamped and
+  // matched by time; without it poses correspond by line, which only holds when both files
+  // list the same frames (an estimate of keyframes only would be paired with the wrong poses).
+  const bool gt_kitti = gt_format == TrajectoryFormat::kKitti;
+  const bool est_kitti = est_format == TrajectoryFormat::kKitti;
+  if (!args.kitti_times.empty()) {
+    if (!gt_kitti && !est_kitti)
+      throw Error("--kitti-times stamps a KITTI-format file, but neither --format nor "
+                  "--gt-format is kitti");
+    const std::vector<double> times = readKittiTimes(args.kitti_times);
+    if (gt_kitti) stampKittiPoses(&gt, times, args.gt_path, args.kitti_times);
+    if (est_kitti) stampKittiPoses(&est, times, args.est_path, args.kitti_times);
+  } else if ((gt_kitti || est_kitti) && gt.size() != est.size()) {
+    throw fileError(gt_kitti ? args.gt_path : args.est_path,
+                    fmt::format("KITTI poses carry no timestamps and pair by line, but the ground "
+                                "truth holds {} poses and the estimate {}: pass KITTI's times.txt "
+                                "with --kitti-times to match them by time",
+                                gt.size(), est.size()));
+  }
+  options.associate_by_index = (gt_kitti || est_kitti) && args.kitti_times.empty();
   options.rpe.delta = args.delta;
   options.rpe.unit = parseDeltaUnit(args.delta_unit);
   options.rpe.pairs_from_reference = args.pairs_from_reference;
@@ -181,6 +237,10 @@ void registerEvalCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--plot", args->plot,
                   "write a PNG: ATE over time beside the local scale over time (refused if it exists)");
+  cmd->add_option("--kitti-times", args->kitti_times,
+                  "KITTI's times.txt (one timestamp per line): stamps the poses of the file in "
+                  "kitti format, which are then matched by time (without it they pair by line, "
+                  "and both files must list the same frames)");
   cmd->add_flag("--json", args->json, "print a JSON object instead of a table");
   cmd->add_flag("--strict", args->strict,
                 "refuse repeated or out-of-order timestamps (default: keep the first of "
