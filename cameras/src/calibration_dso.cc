@@ -8,6 +8,7 @@
 
 #include "omnidso/cameras/calibration_io.hpp"
 #include "omnidso/core/error.hpp"
+#include "omnidso/core/number_text.hpp"
 
 namespace omnidso {
 namespace {
@@ -40,16 +41,10 @@ std::vector<double> numbersOnLine(const std::string& path, int line_no,
                                   const std::vector<std::string>& toks, size_t first) {
   std::vector<double> out;
   for (size_t i = first; i < toks.size(); ++i) {
-    size_t used = 0;
-    double x = 0.0;
-    try {
-      x = std::stod(toks[i], &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != toks[i].size()) throw fileError(path, line_no, "'" + toks[i] + "' is not a number");
-    if (!std::isfinite(x)) throw fileError(path, line_no, "'" + toks[i] + "' is not finite");
-    out.push_back(x);
+    const std::optional<double> x = parseWholeNumber(toks[i]);
+    if (!x) throw fileError(path, line_no, "'" + toks[i] + "' is not a number");
+    if (!std::isfinite(*x)) throw fileError(path, line_no, "'" + toks[i] + "' is not finite");
+    out.push_back(*x);
   }
   return out;
 }

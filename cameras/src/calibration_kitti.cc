@@ -12,6 +12,7 @@
 #include "calibration_kitti.hpp"
 #include "omnidso/cameras/calibration_io.hpp"
 #include "omnidso/core/error.hpp"
+#include "omnidso/core/number_text.hpp"
 
 namespace omnidso {
 namespace {
@@ -24,20 +25,11 @@ std::array<double, kProjectionValues> projectionMatrix(const std::string& path, 
   std::istringstream in(numbers);
   std::vector<double> values;
   for (std::string token; in >> token;) {
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(token, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != token.size()) {
-      throw fileError(path, line_no, fmt::format("P0: '{}' is not a number", token));
-    }
-    if (!std::isfinite(value)) {
+    const std::optional<double> value = parseWholeNumber(token);
+    if (!value) throw fileError(path, line_no, fmt::format("P0: '{}' is not a number", token));
+    if (!std::isfinite(*value))
       throw fileError(path, line_no, fmt::format("P0: '{}' is not finite", token));
-    }
-    values.push_back(value);
+    values.push_back(*value);
   }
   if (values.size() != kProjectionValues) {
     throw fileError(path, line_no,

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <omnidso/core/error.hpp>
+#include <omnidso/core/number_text.hpp>
 
 #include "dataset_detail.hpp"
 
@@ -35,12 +36,7 @@ std::vector<std::string> splitFields(const std::string& line) {
 
 double parseNumber(const std::string& text, const std::string& file, int line,
                    const std::string& what) {
-  try {
-    std::size_t used = 0;
-    const double value = std::stod(text, &used);
-    if (used == text.size()) return value;
-  } catch (const std::exception&) {
-  }
+  if (const std::optional<double> value = parseWholeNumber(text)) return *value;
   throw fileError(file, line, fmt::format("{} '{}' is not a number", what, text));
 }
 

@@ -11,6 +11,7 @@
 #include <omnidso/core/content_mask.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/image_io.hpp>
+#include <omnidso/core/number_text.hpp>
 #include <omnidso/core/photometric_calibration.hpp>
 #include <omnidso/core/pyramid.hpp>
 #include <omnidso/core/timing.hpp>
@@ -21,12 +22,9 @@ namespace omnidso::cli {
 std::optional<double> parseNativeFov(const std::string& text) {
   const std::string prefix = "native-fov:";
   if (text.rfind(prefix, 0) != 0) return std::nullopt;
-  try {
-    size_t used = 0;
-    const double fov = std::stod(text.substr(prefix.size()), &used);
-    if (used == text.size() - prefix.size() && fov > 1.0 && fov <= 360.0) return fov;
-  } catch (const std::exception&) {
-  }
+  if (const std::optional<double> fov = parseWholeNumber(text.substr(prefix.size()));
+      fov && *fov > 1.0 && *fov <= 360.0)
+    return *fov;
   throw Error("--camera-model: expected 'native-fov:FOV_DEG' with 1 < FOV <= 360, got '" + text + "'");
 }
 
@@ -78,12 +76,9 @@ std::optional<double> parsePinholeCrop(const std::string& text) {
   if (text == "native" || parseNativeFov(text)) return std::nullopt;
   const std::string prefix = "pinhole-crop:";
   if (text.rfind(prefix, 0) == 0) {
-    try {
-      size_t used = 0;
-      const double fov = std::stod(text.substr(prefix.size()), &used);
-      if (used == text.size() - prefix.size() && fov > 1.0 && fov < 179.0) return fov;
-    } catch (const std::exception&) {
-    }
+    if (const std::optional<double> fov = parseWholeNumber(text.substr(prefix.size()));
+        fov && *fov > 1.0 && *fov < 179.0)
+      return *fov;
   }
   throw Error("--camera-model: expected 'native', 'native-fov:FOV_DEG' or 'pinhole-crop:FOV_DEG' "
               "with 1 < FOV < 179, got '" +

@@ -13,6 +13,7 @@
 #include <omnidso/cli/commands.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/metrics.hpp>
+#include <omnidso/core/number_text.hpp>
 #include <omnidso/core/scale_drift.hpp>
 #include <omnidso/cli/scale_drift_json.hpp>
 #include <omnidso/cli/eval_plot.hpp>
@@ -51,16 +52,10 @@ std::vector<double> readKittiTimes(const std::string& path) {
     std::istringstream fields(line);
     std::string first, extra;
     if (!(fields >> first) || first[0] == '#') continue;
-    std::size_t used = 0;
-    double t = 0.0;
-    try {
-      t = std::stod(first, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != first.size() || (fields >> extra) || !std::isfinite(t))
+    const std::optional<double> t = parseWholeNumber(first);
+    if (!t || (fields >> extra) || !std::isfinite(*t))
       throw fileError(path, line_number, "expected one timestamp in seconds (KITTI's times.txt)");
-    times.push_back(t);
+    times.push_back(*t);
   }
   return times;
 }
