@@ -52,8 +52,9 @@ namespace omnidso {
 // two-frame error, decides.
 // Until then every frame is processed twice (the frames' timings count one side, the wall
 // time both) and the accessors show the configured start; a rival that snaps on the
-// configured start's frame would repeat it and is dropped then. Later segments (after a
-// tracking loss) and the real-time mode do not race.
+// configured start's frame and adopts the same start there (the same initial pose, bit for
+// bit) would repeat it and is dropped then. Later segments (after a tracking loss) and the
+// real-time mode do not race.
 struct InitializationRaceOptions {
   double rival_snap_parallax_deg = 2.0;  // ≤ 0, or not below the configured snap angle: no race
   int keyframes = 3;                     // 2 … the window's size
