@@ -99,7 +99,8 @@ const ImageGradients& ImagePyramid::gradients(int index) const {
 int pyramidLevelsForImage(int width, int height, int min_coarsest_pixels, int max_levels) {
   int levels = 1;
   long w = width, h = height;
-  while (levels < max_levels && w % 2 == 0 && h % 2 == 0 && w * h > min_coarsest_pixels) {
+  while (levels < max_levels && w * h > min_coarsest_pixels &&
+         w / 2 >= ImagePyramid::kMinCoarsestSize && h / 2 >= ImagePyramid::kMinCoarsestSize) {
     w /= 2;
     h /= 2;
     ++levels;

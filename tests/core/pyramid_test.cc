@@ -89,15 +89,19 @@ TEST(ImagePyramid, TooSmallOrNoLevelsThrows) {
 
 // A level is added while the current coarsest image has more than 5000 pixels (DSO's rule):
 // 480×480 stops at 60×60 (3600 px, 4 levels), 640×480 at 80×60 (4800 px), 752×480 at 47×30
-// (94×60 = 5640 px still halves; 47 is odd), 1280×1024 at 40×32 (6 levels, the cap); odd
-// sizes stop halving, and max_levels caps.
+// (94×60 = 5640 px still halves), 1280×1024 at 40×32 (6 levels, the cap); max_levels caps.
+// Odd sides halve with the floor: KITTI's 1241×376 reaches 77×23 (5 levels; 155×47 = 7285 px
+// still halves), its 1226×370 76×23 (613×185 halves too) — DSO's rule stopped at an odd side,
+// which gave them 1 and 2 levels and lost the initialisation.
 TEST(PyramidLevelsForImage, CoarsestLevelKeepsEnoughPixels) {
   EXPECT_EQ(pyramidLevelsForImage(480, 480), 4);
   EXPECT_EQ(pyramidLevelsForImage(640, 480), 4);
   EXPECT_EQ(pyramidLevelsForImage(752, 480), 5);
   EXPECT_EQ(pyramidLevelsForImage(1280, 1024), 6);
   EXPECT_EQ(pyramidLevelsForImage(1280, 1024, 5000, 3), 3);
-  EXPECT_EQ(pyramidLevelsForImage(481, 480), 1);
+  EXPECT_EQ(pyramidLevelsForImage(481, 480), 4);
+  EXPECT_EQ(pyramidLevelsForImage(1241, 376), 5);
+  EXPECT_EQ(pyramidLevelsForImage(1226, 370), 5);
   EXPECT_EQ(pyramidLevelsForImage(960, 960), 5);
   EXPECT_EQ(pyramidLevelsForImage(60, 60), 1);
 }

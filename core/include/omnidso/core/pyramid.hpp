@@ -14,9 +14,16 @@
 namespace omnidso {
 
 // The number of pyramid levels coarse-to-fine alignment should use for a w × h image: a level
-// is added while the current coarsest one has more than `min_coarsest_pixels` pixels and even
-// sides (DSO's rule, 5000), at most max_levels. 480×480 and 640×480 get 4 levels (coarsest
-// 60×60, 80×60), 752×480 gets 5 (47×30).
+// is added while the current coarsest one has more than `min_coarsest_pixels` pixels (DSO's
+// rule, 5000), at most max_levels. 480×480 and 640×480 get 4 levels (coarsest 60×60, 80×60),
+// 752×480 gets 5 (47×30), KITTI's 1241×376 5 (77×23).
+//
+// DSO also stops at an odd side; here a level halves with the floor (downsample2x2 drops the
+// last row or column, and every other pixel keeps its place, (x + ½)/2 − ½), so an odd side
+// needs no stop. With it KITTI's 1241-pixel-wide images had one level and its 1226 × 370 ones
+// two: a 120-frame render of the project's room at 1241 × 376 never initialised (the
+// alignment lost by the second frame, photometric error 38–49), and reads 0.028 % of the path
+// with 4 levels (docs/performance.md, "Odd image sides").
 //
 // Why not a fixed 5: on a 480×480 fisheye image whose content is the inscribed circle, the
 // fifth level is 30×30 with a content disc 13 pixels in radius, a third of it touched by the
