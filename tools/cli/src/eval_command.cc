@@ -4,16 +4,13 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
-#include <cmath>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <omnidso/cli/commands.hpp>
+#include <omnidso/core/dataset.hpp>
 #include <omnidso/core/error.hpp>
 #include <omnidso/core/metrics.hpp>
-#include <omnidso/core/number_text.hpp>
 #include <omnidso/core/scale_drift.hpp>
 #include <omnidso/cli/scale_drift_json.hpp>
 #include <omnidso/cli/eval_plot.hpp>
@@ -41,32 +38,14 @@ struct EvalArguments {
   std::string kitti_times;  // KITTI's times.txt: stamps the KITTI-format file's poses
 };
 
-// KITTI's times.txt: one timestamp in seconds per line (blank and '#' lines skipped).
-std::vector<double> readKittiTimes(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw fileError(path, "cannot open (--kitti-times)");
-  std::vector<double> times;
-  int line_number = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++line_number;
-    std::istringstream fields(line);
-    std::string first, extra;
-    if (!(fields >> first) || first[0] == '#') continue;
-    const std::optional<double> t = parseWholeNumber(first);
-    if (!t || (fields >> extra) || !std::isfinite(*t))
-      throw fileError(path, line_number, "expected one timestamp in seconds (KITTI's times.txt)");
-    times.push_back(*t);
-  }
-  return times;
-}
-
-// A KITTI file's poses stamped by line (trajectory_io.hpp: pose k at time k), given the times.
-void stampKittiPoses(Trajectory* poses, const std::vector<double>& times,
+// A KITTI file's poses stamped by line (trajectory_io.hpp: pose k at time k), given the times
+// (dataset.hpp, readKittiTimes).
+void stampKittiPoses(Trajectory* poses, const std::vector<KittiTimestamp>& times,
                      const std::string& poses_path, const std::string& times_path) {
   if (poses->size() != times.size())
     throw fileError(poses_path, fmt::format("{} poses, but {} lists {} timestamps", poses->size(),
                                             times_path, times.size()));
-  for (std::size_t k = 0; k < times.size(); ++k) (*poses)[k].timestamp = times[k];
+  for (std::size_t k = 0; k < times.size(); ++k) (*poses)[k].timestamp = times[k].seconds;
 }
 
 nlohmann::ordered_json statisticsJson(const ErrorStatistics& s) {
@@ -161,7 +140,7 @@ void runEval(const EvalArguments& args) {
     if (!gt_kitti && !est_kitti)
       throw Error("--kitti-times stamps a KITTI-format file, but neither --format nor "
                   "--gt-format is kitti");
-    const std::vector<double> times = readKittiTimes(args.kitti_times);
+    const std::vector<KittiTimestamp> times = readKittiTimes(args.kitti_times);
     if (gt_kitti) stampKittiPoses(&gt, times, args.gt_path, args.kitti_times);
     if (est_kitti) stampKittiPoses(&est, times, args.est_path, args.kitti_times);
   } else if ((gt_kitti || est_kitti) && gt.size() != est.size()) {

@@ -113,6 +113,15 @@ ImageU8 readDatasetFrame(const DatasetIndex& index, std::size_t i);
 // line that lists the image too.
 RawImage readDatasetRawFrame(const DatasetFrame& frame);
 
+// KITTI odometry's times.txt: one timestamp in seconds per line, blank and '#' lines skipped;
+// the k-th timestamp is frame k's (and pose k's in poses/NN.txt). Throws omnidso::Error naming
+// the file and line for a line of other than one number or a timestamp that is not finite.
+struct KittiTimestamp {
+  double seconds = 0;
+  int line = 0;  // 1-based line in the file
+};
+std::vector<KittiTimestamp> readKittiTimes(const std::string& path);
+
 // Time span (last − first timestamp) and mean frame rate (frames−1 over the span).
 double datasetDuration(const DatasetIndex& index);
 double datasetFrameRate(const DatasetIndex& index);
