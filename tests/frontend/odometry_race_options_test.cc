@@ -43,7 +43,7 @@ TEST(InitializationRaceOptions, BadSettingsAreRefusedByName) {
 
 // The rival differs from the configured start in its snap angle and in the start it adopts at
 // the snap: the lowest error of the pre-snap path's solution and the pure translations', where
-// the configured start asks a translation start for 0.8× (docs/performance.md, "A start inside
+// the configured start asks a translation start for 0.95× (docs/performance.md, "A start inside
 // a fast turn": under motion blur the right basin's error was 0.98–0.99× the wrong one's, and
 // the rival kept the wrong one too). Everything else is the configured start's.
 TEST(InitializationRaceOptions, TheRivalSnapsEarlierAndAdoptsTheLowestStart) {
@@ -53,7 +53,7 @@ TEST(InitializationRaceOptions, TheRivalSnapsEarlierAndAdoptsTheLowestStart) {
   EXPECT_EQ(rival.initializer.snap_parallax_deg, options.race.rival_snap_parallax_deg);
   EXPECT_LT(rival.initializer.snap_parallax_deg, snapParallaxDeg(options.initializer));
   EXPECT_EQ(rival.initializer.snap_translation_start_gain, 1.0);
-  EXPECT_EQ(options.initializer.snap_translation_start_gain, 0.8);
+  EXPECT_EQ(options.initializer.snap_translation_start_gain, 0.95);
   EXPECT_EQ(rival.initializer.max_rmse, 12.5);
   EXPECT_EQ(rival.initializer.min_parallax_deg, options.initializer.min_parallax_deg);
   options.race.rival_snap_translation_start_gain = 0.8;  // the session-43 rival

@@ -45,7 +45,7 @@ namespace omnidso {
 // right one's, two right ones within 0.87–1.11× of each other (docs/performance.md, "The
 // initial pair's basin through a narrow view").
 // At its snap the rival adopts the lowest-error start (`rival_snap_translation_start_gain`, the
-// initialiser's snap_translation_start_gain, 1: the lowest): the configured start's 0.8× rule
+// initialiser's snap_translation_start_gain, 1: the lowest): the configured start's 0.95× rule
 // keeps the pre-snap path's solution unless another is clearly better, and in a fast turn
 // under motion blur the right basin's two-frame error was only 0.98–0.99× the wrong one's
 // (docs/performance.md, "A start inside a fast turn"). Between the two starts the race, not the
@@ -60,7 +60,7 @@ struct InitializationRaceOptions {
   int keyframes = 3;                     // 2 … the window's size
   double switch_gain = 0.8;
   int max_frames = 200;                  // undecided after this many frames: the rival is dropped
-  double rival_snap_translation_start_gain = 1.0;  // > 0; the configured start's: 0.8
+  double rival_snap_translation_start_gain = 1.0;  // > 0; the configured start's: 0.95
 };
 
 struct OdometryOptions {
