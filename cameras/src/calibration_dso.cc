@@ -6,9 +6,9 @@
 #include <sstream>
 #include <vector>
 
+#include "calibration_text.hpp"
 #include "omnidso/cameras/calibration_io.hpp"
 #include "omnidso/core/error.hpp"
-#include "omnidso/core/number_text.hpp"
 
 namespace omnidso {
 namespace {
@@ -29,31 +29,11 @@ const std::map<std::string, DsoModel>& dsoKeywords() {
   return kKeywords;
 }
 
-std::vector<std::string> tokens(const std::string& line) {
-  std::istringstream in(line);
-  std::vector<std::string> out;
-  for (std::string t; in >> t;) out.push_back(t);
-  return out;
-}
-
-// Every token a finite number, else an error naming the line.
-std::vector<double> numbersOnLine(const std::string& path, int line_no,
-                                  const std::vector<std::string>& toks, size_t first) {
-  std::vector<double> out;
-  for (size_t i = first; i < toks.size(); ++i) {
-    const std::optional<double> x = parseWholeNumber(toks[i]);
-    if (!x) throw fileError(path, line_no, "'" + toks[i] + "' is not a number");
-    if (!std::isfinite(*x)) throw fileError(path, line_no, "'" + toks[i] + "' is not finite");
-    out.push_back(*x);
-  }
-  return out;
-}
-
 std::pair<int, int> imageSize(const std::string& path, int line_no, const std::string& line,
                               const std::string& what) {
   std::vector<double> v;
   try {
-    v = numbersOnLine(path, line_no, tokens(line), 0);
+    v = detail::finiteNumbers(path, line_no, detail::textTokens(line), 0);
   } catch (const Error&) {
     v.clear();  // reported below, with what the line should hold
   }
@@ -73,14 +53,14 @@ Camera loadDsoCameraTxt(const std::string& path) {
   if (!in) throw fileError(path, "cannot open calibration file");
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(line);
-  while (!lines.empty() && tokens(lines.back()).empty()) lines.pop_back();
+  while (!lines.empty() && detail::textTokens(lines.back()).empty()) lines.pop_back();
   if (lines.size() < 2) {
     throw fileError(path,
                     "expected at least 2 lines: 'MODEL fx fy cx cy ...' and "
                     "'in_width in_height'");
   }
 
-  const std::vector<std::string> toks = tokens(lines[0]);
+  const std::vector<std::string> toks = detail::textTokens(lines[0]);
   if (toks.empty()) throw fileError(path, 1, "expected 'MODEL fx fy cx cy ...'");
   const bool has_keyword = !std::isdigit(static_cast<unsigned char>(toks[0][0])) &&
                            toks[0][0] != '-' && toks[0][0] != '.' && toks[0][0] != '+';
@@ -95,7 +75,7 @@ Camera loadDsoCameraTxt(const std::string& path) {
     }
     model = it->second;
   }
-  std::vector<double> values = numbersOnLine(path, 1, toks, has_keyword ? 1 : 0);
+  std::vector<double> values = detail::finiteNumbers(path, 1, toks, has_keyword ? 1 : 0);
   // Without a keyword DSO tells the model by the count: 8 numbers RadTan, 5 FOV (ATAN,
   // DSO's original format and TUM monoVO's).
   if (!has_keyword) {
@@ -128,10 +108,10 @@ Camera loadDsoCameraTxt(const std::string& path) {
   }
 
   if (lines.size() >= 3) {
-    const std::vector<std::string> crop = tokens(lines[2]);
+    const std::vector<std::string> crop = detail::textTokens(lines[2]);
     const bool keyword =
         crop.size() == 1 && (crop[0] == "crop" || crop[0] == "full" || crop[0] == "none");
-    if (!keyword && !(crop.size() == 5 && numbersOnLine(path, 3, crop, 0).size() == 5)) {
+    if (!keyword && !(crop.size() == 5 && detail::finiteNumbers(path, 3, crop, 0).size() == 5)) {
       throw fileError(path, 3, "expected 'crop', 'full', 'none' or 'fx fy cx cy 0'");
     }
     if (lines.size() < 4) throw fileError(path, 4, "missing 'out_width out_height'");

@@ -2,17 +2,15 @@
 // line. The file holds no image size, so the caller passes the images' (datasetCamera).
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <fstream>
-#include <sstream>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "calibration_kitti.hpp"
+#include "calibration_text.hpp"
 #include "omnidso/cameras/calibration_io.hpp"
 #include "omnidso/core/error.hpp"
-#include "omnidso/core/number_text.hpp"
 
 namespace omnidso {
 namespace {
@@ -22,15 +20,8 @@ constexpr int kProjectionValues = 12;  // a 3×4 matrix, row-major
 // The numbers after "P0:" on line `line_no`; every one finite, twelve of them.
 std::array<double, kProjectionValues> projectionMatrix(const std::string& path, int line_no,
                                                        const std::string& numbers) {
-  std::istringstream in(numbers);
-  std::vector<double> values;
-  for (std::string token; in >> token;) {
-    const std::optional<double> value = parseWholeNumber(token);
-    if (!value) throw fileError(path, line_no, fmt::format("P0: '{}' is not a number", token));
-    if (!std::isfinite(*value))
-      throw fileError(path, line_no, fmt::format("P0: '{}' is not finite", token));
-    values.push_back(*value);
-  }
+  const std::vector<double> values =
+      detail::finiteNumbers(path, line_no, detail::textTokens(numbers), 0, "P0: ");
   if (values.size() != kProjectionValues) {
     throw fileError(path, line_no,
                     fmt::format("P0 takes {} numbers (a 3x4 projection matrix, row-major), got {}",
