@@ -64,7 +64,7 @@ double Initializer::Impl::solveAtSnap(int levels, const ImagePyramid& frame, dou
   // A default above the acceptance bound is a lost alignment: the parallax that triggered the
   // snap is then an artefact, and a start fitted to it has no translation to find — with the
   // rotation search off, a 10° swing was "initialised" so (WaitsWhenNoPointProjectsAnyMore).
-  if (!options.snap_translation_starts || !(step > 0) || !(rmse <= options.max_rmse)) return rmse;
+  if (!options.snap_translation_starts || !(step > 0) || !(rmse <= maxRmse())) return rmse;
   // Each start is solved on its own state (withState), the default's solution staying put.
   double best_rmse = options.snap_translation_start_gain * rmse;  // what a start must beat
   std::optional<InitializerState> best;
@@ -117,8 +117,12 @@ Initializer::Impl::Parallax Initializer::Impl::parallax(const std::vector<bool>&
 }
 
 
-Initializer::Initializer(const Camera& camera, const Mask& mask, InitializerOptions options)
-    : impl_(std::make_unique<Impl>(camera, mask, std::move(options))) {}
+Initializer::Initializer(const Camera& camera, const Mask& mask, InitializerOptions options) {
+  if (!(options.max_rmse_growth >= 0.0) || !std::isfinite(options.max_rmse_growth))
+    throw Error("Initializer: initializer.max_rmse_growth must be finite and ≥ 0 (got " +
+                std::to_string(options.max_rmse_growth) + ")");
+  impl_ = std::make_unique<Impl>(camera, mask, std::move(options));
+}
 
 Initializer::~Initializer() = default;
 
@@ -198,6 +202,8 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
     impl_->snapped_at = impl_->frames_tried;
     rmse = impl_->solveAtSnap(levels, frame, exposure, &valid);
     parallax = impl_->parallax(valid);
+  } else if (!snapped_before) {
+    impl_->pre_snap_rmse = std::min(impl_->pre_snap_rmse, rmse);
   }
   const int num_valid = static_cast<int>(std::count(valid.begin(), valid.end(), true));
   result.parallax_px = parallax.px;
@@ -208,11 +214,11 @@ InitializationResult Initializer::addFrame(const ImagePyramid& frame, double exp
   status << "after " << impl_->frames_tried << " frames: parallax " << parallax.px << " px of the "
          << min_parallax << " px needed, triangulation angle " << parallax.deg << "° of the "
          << o.min_parallax_deg << "° needed, photometric error " << rmse << " (at most "
-         << impl_->options.max_rmse << "), " << num_valid << " points";
+         << impl_->maxRmse() << "), " << num_valid << " points";
   if (impl_->snapped_at >= 0) status << ", snapped at frame " << impl_->snapped_at;
   impl_->status = status.str();
   if (impl_->snapped_at < 0 || impl_->frames_tried < impl_->snapped_at + o.frames_after_snap ||
-      !enough() || !(rmse <= o.max_rmse) || num_valid < o.min_points)
+      !enough() || !(rmse <= impl_->maxRmse()) || num_valid < o.min_points)
     return result;
 
   // Scale: mean inverse distance 1 (d' = d/m, t' = m t).

@@ -9,7 +9,10 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <omnidso/backend/photometric_factory.hpp>
 #include <omnidso/core/error.hpp>
@@ -49,6 +52,9 @@ struct Initializer::Impl {
   std::vector<std::vector<char>> level_members;
   int frames_tried = 0;
   int snapped_at = -1;  // frames_tried when the parallax first sufficed; -1 before
+  // The least error of a frame whose parallax was still below the snap's (+∞ before one):
+  // the pair's own error floor (InitializerOptions::max_rmse_growth).
+  double pre_snap_rmse = std::numeric_limits<double>::infinity();
   std::string status = "no frame yet";
 
   Impl(const Camera& c, const Mask& m, InitializerOptions o)
@@ -66,6 +72,13 @@ struct Initializer::Impl {
     host_affine = {0.0, 0.0};
     frames_tried = 0;
     snapped_at = -1;
+    pre_snap_rmse = std::numeric_limits<double>::infinity();
+  }
+
+  // The acceptance bound on the photometric error (max_rmse, max_rmse_growth).
+  double maxRmse() const {
+    const double relative = options.max_rmse_growth * pre_snap_rmse;
+    return std::isfinite(relative) ? std::max(options.max_rmse, relative) : options.max_rmse;
   }
 
   // One level's problem: a photometric residual for every point that projects validly from

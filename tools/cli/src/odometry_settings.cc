@@ -126,6 +126,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"race.max_frames", &o.race.max_frames},
       {"race.rival_snap_translation_start_gain", &o.race.rival_snap_translation_start_gain},
       {"initializer.max_rmse", &o.initializer.max_rmse},
+      {"initializer.max_rmse_growth", &o.initializer.max_rmse_growth},
       {"initializer.min_points", &o.initializer.min_points},
       {"initializer.max_frames", &o.initializer.max_frames},
       {"initializer.huber_threshold", &o.initializer.huber_threshold},
