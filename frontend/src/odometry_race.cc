@@ -1,5 +1,6 @@
 // The initialisation race (odometry.hpp, InitializationRaceOptions): whether it applies, each
 // side's cost once its first window holds race.keyframes keyframes, and the decision.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -27,6 +28,25 @@ void Odometry::Impl::noteRaceCost(const WindowSolveSummary& summary) {
   race_cost = std::sqrt(2.0 * summary.final_cost / (kWindowPatternSize * summary.num_residuals));
 }
 
+namespace {
+
+double raceCost(const RaceSide& side, int common_start) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (side.start_frame > common_start) return inf;
+  return side.lost && std::isnan(side.cost) ? inf : side.cost;
+}
+
+}  // namespace
+
+RaceOutcome decideRace(const RaceSide& configured, const RaceSide& rival, double switch_gain) {
+  const int common_start = std::min(configured.start_frame, rival.start_frame);
+  const double configured_cost = raceCost(configured, common_start);
+  const double rival_cost = raceCost(rival, common_start);
+  if (std::isnan(configured_cost) || std::isnan(rival_cost)) return RaceOutcome::kUndecided;
+  return rival_cost < switch_gain * configured_cost ? RaceOutcome::kTakeRival
+                                                    : RaceOutcome::kKeepConfigured;
+}
+
 void Odometry::settleRace() {
   const Impl& mine = *impl_;
   const Impl& rival = *rival_;
@@ -35,27 +55,36 @@ void Odometry::settleRace() {
   const bool twins = mine.race_snap_frame >= 0 && mine.race_snap_frame == rival.race_snap_frame &&
                      mine.race_first_frame == rival.race_first_frame &&
                      mine.race_initial_pose == rival.race_initial_pose;
-  // A side that lost tracking before its window held race.keyframes keyframes: infinite cost.
-  const double inf = std::numeric_limits<double>::infinity();
-  const double mine_cost = mine.segment > 0 && std::isnan(mine.race_cost) ? inf : mine.race_cost;
-  const double rival_cost =
-      rival.segment > 0 && std::isnan(rival.race_cost) ? inf : rival.race_cost;
-  const bool decided = !std::isnan(mine_cost) && !std::isnan(rival_cost);
+  auto raceSide = [](const Impl& side) {
+    return RaceSide{side.race_first_frame >= 0 ? side.race_first_frame : side.first_frame_index,
+                    side.race_cost, side.segment > 0};
+  };
+  const RaceSide mine_side = raceSide(mine), rival_side = raceSide(rival);
+  const RaceOutcome outcome = decideRace(mine_side, rival_side, mine.options.race.switch_gain);
   const bool timed_out = static_cast<int>(mine.frames.size()) >= mine.options.race.max_frames;
-  if (!twins && !decided && !timed_out) return;
+  if (!twins && outcome == RaceOutcome::kUndecided && !timed_out) return;
   std::ostringstream m;
   m << "initialisation race: ";
   bool take_rival = false;
   if (twins) {
     m << "the rival snap (" << rival.options.initializer.snap_parallax_deg << "°) came on the same "
       << "frame; one start kept";
-  } else if (!decided) {
+  } else if (outcome == RaceOutcome::kUndecided) {
     m << "undecided after " << mine.frames.size() << " frames; the configured start kept";
   } else {
-    take_rival = rival_cost < mine.options.race.switch_gain * mine_cost;
-    m << "window cost RMS at " << mine.options.race.keyframes << " keyframes " << mine_cost
-      << " (snap at " << snapParallaxDeg(mine.options.initializer) << "°) against " << rival_cost
-      << " (snap at " << rival.options.initializer.snap_parallax_deg << "°): "
+    take_rival = outcome == RaceOutcome::kTakeRival;
+    const int common_start = std::min(mine_side.start_frame, rival_side.start_frame);
+    auto side = [&](const RaceSide& s, double snap_deg) {
+      std::ostringstream o;
+      o << raceCost(s, common_start) << " (snap at " << snap_deg << "°";
+      if (s.start_frame > common_start)
+        o << "; from frame " << s.start_frame << ", not " << common_start;
+      o << ")";
+      return o.str();
+    };
+    m << "window cost RMS at " << mine.options.race.keyframes << " keyframes "
+      << side(mine_side, snapParallaxDeg(mine.options.initializer)) << " against "
+      << side(rival_side, rival.options.initializer.snap_parallax_deg) << ": "
       << (take_rival ? "the rival's start taken" : "the configured start kept");
   }
   if (take_rival) {

@@ -15,6 +15,7 @@
 // seeded from OdometryOptions::seed, so the same input gives the same trajectory bit for bit.
 
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <omnidso/backend/sliding_window.hpp>
 #include <omnidso/cameras/camera.hpp>
@@ -39,7 +40,8 @@ namespace omnidso {
 // default's snap at 5° failed where one at 2° held; on D2's crop the reverse). The first
 // segment is therefore started twice on the same frames: as configured, and as a rival that
 // snaps at `rival_snap_parallax_deg`. Once each window has held `keyframes` keyframes (or lost
-// tracking before, which counts as an infinite cost), the rival replaces the configured start
+// tracking before, or restarted its initialisation past the other's first frame, which count
+// as an infinite cost: decideRace), the rival replaces the configured start
 // only if its window's cost RMS, √(2 E / (8 n)) over the n residual patches at the optimum, is
 // below `switch_gain` × the other's. On the same frames a wrong basin's cost was 1.4–3.2× a
 // right one's, two right ones within 0.87–1.11× of each other (docs/performance.md, "The
@@ -194,6 +196,25 @@ int defaultContentMarginPx(int pattern_spread);
 // The rival's options (InitializationRaceOptions): the configured ones with the rival's snap
 // angle and snap start gain.
 OdometryOptions raceRivalOptions(const OdometryOptions& options);
+
+// One side of the initialisation race, as its decision sees it.
+struct RaceSide {
+  // The first frame of the side's first segment: the one it initialised from, or, not
+  // initialised yet, its initialiser's first frame — which a restart (initializer.max_frames)
+  // moves on.
+  int start_frame = -1;
+  double cost = std::numeric_limits<double>::quiet_NaN();  // at race.keyframes keyframes
+  bool lost = false;  // tracking lost (before the cost, the cost is infinite)
+};
+enum class RaceOutcome { kUndecided, kKeepConfigured, kTakeRival };
+// The race compares two starts from the same frames. A side that lost tracking before its
+// window held race.keyframes keyframes, or that could not initialise from the frames the other
+// started from (its start moved on by a restart), costs +∞; the rival is taken only when its
+// cost is below switch_gain × the configured one's. Undecided while a cost is unknown. (A rival
+// that restarted at frame 60 of a fast car-like strip and initialised at frame 125 had been
+// taken at its lower cost, dropping 120 tracked frames: docs/performance.md, "The race
+// between starts from different frames".)
+RaceOutcome decideRace(const RaceSide& configured, const RaceSide& rival, double switch_gain);
 
 class Odometry {
  public:
