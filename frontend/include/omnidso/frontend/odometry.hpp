@@ -204,7 +204,7 @@ struct RaceSide {
   // moves on.
   int start_frame = -1;
   double cost = std::numeric_limits<double>::quiet_NaN();  // at race.keyframes keyframes
-  bool lost = false;  // tracking lost (before the cost, the cost is infinite)
+  bool lost = false;  // tracking lost (before it had its cost: +∞)
 };
 enum class RaceOutcome { kUndecided, kKeepConfigured, kTakeRival };
 // The race compares two starts from the same frames. A side that lost tracking before its
