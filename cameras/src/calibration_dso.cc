@@ -3,7 +3,6 @@
 #include <fstream>
 #include <iomanip>
 #include <map>
-#include <sstream>
 #include <vector>
 
 #include "calibration_text.hpp"

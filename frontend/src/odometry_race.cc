@@ -38,13 +38,15 @@ double raceCost(const RaceSide& side, int common_start) {
 
 }  // namespace
 
-RaceOutcome decideRace(const RaceSide& configured, const RaceSide& rival, double switch_gain) {
-  const int common_start = std::min(configured.start_frame, rival.start_frame);
-  const double configured_cost = raceCost(configured, common_start);
-  const double rival_cost = raceCost(rival, common_start);
-  if (std::isnan(configured_cost) || std::isnan(rival_cost)) return RaceOutcome::kUndecided;
-  return rival_cost < switch_gain * configured_cost ? RaceOutcome::kTakeRival
-                                                    : RaceOutcome::kKeepConfigured;
+RaceDecision decideRace(const RaceSide& configured, const RaceSide& rival, double switch_gain) {
+  RaceDecision d;
+  d.common_start = std::min(configured.start_frame, rival.start_frame);
+  d.configured_cost = raceCost(configured, d.common_start);
+  d.rival_cost = raceCost(rival, d.common_start);
+  if (!std::isnan(d.configured_cost) && !std::isnan(d.rival_cost))
+    d.outcome = d.rival_cost < switch_gain * d.configured_cost ? RaceOutcome::kTakeRival
+                                                               : RaceOutcome::kKeepConfigured;
+  return d;
 }
 
 void Odometry::settleRace() {
@@ -60,31 +62,33 @@ void Odometry::settleRace() {
                     side.race_cost, side.segment > 0};
   };
   const RaceSide mine_side = raceSide(mine), rival_side = raceSide(rival);
-  const RaceOutcome outcome = decideRace(mine_side, rival_side, mine.options.race.switch_gain);
+  const RaceDecision decision =
+      decideRace(mine_side, rival_side, mine.options.race.switch_gain);
   const bool timed_out = static_cast<int>(mine.frames.size()) >= mine.options.race.max_frames;
-  if (!twins && outcome == RaceOutcome::kUndecided && !timed_out) return;
+  if (!twins && decision.outcome == RaceOutcome::kUndecided && !timed_out) return;
   std::ostringstream m;
   m << "initialisation race: ";
   bool take_rival = false;
   if (twins) {
     m << "the rival snap (" << rival.options.initializer.snap_parallax_deg << "°) came on the same "
       << "frame; one start kept";
-  } else if (outcome == RaceOutcome::kUndecided) {
+  } else if (decision.outcome == RaceOutcome::kUndecided) {
     m << "undecided after " << mine.frames.size() << " frames; the configured start kept";
   } else {
-    take_rival = outcome == RaceOutcome::kTakeRival;
-    const int common_start = std::min(mine_side.start_frame, rival_side.start_frame);
-    auto side = [&](const RaceSide& s, double snap_deg) {
+    take_rival = decision.outcome == RaceOutcome::kTakeRival;
+    auto side = [&](const RaceSide& s, double cost, double snap_deg) {
       std::ostringstream o;
-      o << raceCost(s, common_start) << " (snap at " << snap_deg << "°";
-      if (s.start_frame > common_start)
-        o << "; from frame " << s.start_frame << ", not " << common_start;
+      o << cost << " (snap at " << snap_deg << "°";
+      if (s.start_frame > decision.common_start)
+        o << "; from frame " << s.start_frame << ", not " << decision.common_start;
       o << ")";
       return o.str();
     };
     m << "window cost RMS at " << mine.options.race.keyframes << " keyframes "
-      << side(mine_side, snapParallaxDeg(mine.options.initializer)) << " against "
-      << side(rival_side, rival.options.initializer.snap_parallax_deg) << ": "
+      << side(mine_side, decision.configured_cost, snapParallaxDeg(mine.options.initializer))
+      << " against "
+      << side(rival_side, decision.rival_cost, rival.options.initializer.snap_parallax_deg)
+      << ": "
       << (take_rival ? "the rival's start taken" : "the configured start kept");
   }
   if (take_rival) {

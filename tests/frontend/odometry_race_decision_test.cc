@@ -13,18 +13,18 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kGain = 0.8;  // InitializationRaceOptions::switch_gain
 
 TEST(DecideRace, ComparesTheCostsOfStartsFromTheSameFrame) {
-  EXPECT_EQ(decideRace({0, 10.0, false}, {0, 7.9, false}, kGain), RaceOutcome::kTakeRival);
-  EXPECT_EQ(decideRace({0, 10.0, false}, {0, 8.1, false}, kGain), RaceOutcome::kKeepConfigured);
+  EXPECT_EQ(decideRace({0, 10.0, false}, {0, 7.9, false}, kGain).outcome, RaceOutcome::kTakeRival);
+  EXPECT_EQ(decideRace({0, 10.0, false}, {0, 8.1, false}, kGain).outcome, RaceOutcome::kKeepConfigured);
   // A cost not known yet: the race waits.
-  EXPECT_EQ(decideRace({0, 10.0, false}, {0, kNaN, false}, kGain), RaceOutcome::kUndecided);
-  EXPECT_EQ(decideRace({0, kNaN, false}, {0, 1.0, false}, kGain), RaceOutcome::kUndecided);
+  EXPECT_EQ(decideRace({0, 10.0, false}, {0, kNaN, false}, kGain).outcome, RaceOutcome::kUndecided);
+  EXPECT_EQ(decideRace({0, kNaN, false}, {0, 1.0, false}, kGain).outcome, RaceOutcome::kUndecided);
 }
 
 TEST(DecideRace, ASideThatLostTrackingBeforeItsCostHasLost) {
-  EXPECT_EQ(decideRace({0, kNaN, true}, {0, 50.0, false}, kGain), RaceOutcome::kTakeRival);
-  EXPECT_EQ(decideRace({0, 10.0, false}, {0, kNaN, true}, kGain), RaceOutcome::kKeepConfigured);
+  EXPECT_EQ(decideRace({0, kNaN, true}, {0, 50.0, false}, kGain).outcome, RaceOutcome::kTakeRival);
+  EXPECT_EQ(decideRace({0, 10.0, false}, {0, kNaN, true}, kGain).outcome, RaceOutcome::kKeepConfigured);
   // Both lost: the configured start stays.
-  EXPECT_EQ(decideRace({0, kNaN, true}, {0, kNaN, true}, kGain), RaceOutcome::kKeepConfigured);
+  EXPECT_EQ(decideRace({0, kNaN, true}, {0, kNaN, true}, kGain).outcome, RaceOutcome::kKeepConfigured);
 }
 
 // K5 (docs/performance.md, "The race between starts from different frames"): the configured
@@ -33,16 +33,19 @@ TEST(DecideRace, ASideThatLostTrackingBeforeItsCostHasLost) {
 // a lower window cost (8.1 against 10.7). Compared as costs, the rival was taken and the 120
 // frames tracked before it were dropped; it could not start from frame 0: it has lost.
 TEST(DecideRace, ASideThatCouldNotInitialiseFromTheOthersFirstFrameHasLost) {
-  EXPECT_EQ(decideRace({0, 10.72, false}, {120, 8.12, false}, kGain),
-            RaceOutcome::kKeepConfigured);
-  EXPECT_EQ(decideRace({60, 8.0, false}, {0, 10.0, false}, kGain), RaceOutcome::kTakeRival);
+  const RaceDecision k5 = decideRace({0, 10.72, false}, {120, 8.12, false}, kGain);
+  EXPECT_EQ(k5.outcome, RaceOutcome::kKeepConfigured);
+  EXPECT_EQ(k5.common_start, 0);
+  EXPECT_EQ(k5.configured_cost, 10.72);
+  EXPECT_EQ(k5.rival_cost, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(decideRace({60, 8.0, false}, {0, 10.0, false}, kGain).outcome, RaceOutcome::kTakeRival);
   // Decided as soon as the restart is known, the restarted side's cost not awaited.
-  EXPECT_EQ(decideRace({0, 10.72, false}, {60, kNaN, false}, kGain),
+  EXPECT_EQ(decideRace({0, 10.72, false}, {60, kNaN, false}, kGain).outcome,
             RaceOutcome::kKeepConfigured);
   // Not before the other side's own cost, which can still be lost to a tracking loss.
-  EXPECT_EQ(decideRace({0, kNaN, false}, {60, kNaN, false}, kGain), RaceOutcome::kUndecided);
+  EXPECT_EQ(decideRace({0, kNaN, false}, {60, kNaN, false}, kGain).outcome, RaceOutcome::kUndecided);
   // Both restarted together (neither initialised from frame 0): the same frames again.
-  EXPECT_EQ(decideRace({60, 10.0, false}, {60, 7.0, false}, kGain), RaceOutcome::kTakeRival);
+  EXPECT_EQ(decideRace({60, 10.0, false}, {60, 7.0, false}, kGain).outcome, RaceOutcome::kTakeRival);
 }
 
 }  // namespace

@@ -207,6 +207,12 @@ struct RaceSide {
   bool lost = false;  // tracking lost (before it had its cost: +∞)
 };
 enum class RaceOutcome { kUndecided, kKeepConfigured, kTakeRival };
+struct RaceDecision {
+  RaceOutcome outcome = RaceOutcome::kUndecided;
+  int common_start = -1;  // the earlier of the two sides' start frames
+  double configured_cost = std::numeric_limits<double>::quiet_NaN();  // as compared (+∞: lost)
+  double rival_cost = std::numeric_limits<double>::quiet_NaN();
+};
 // The race compares two starts from the same frames. A side that lost tracking before its
 // window held race.keyframes keyframes, or that could not initialise from the frames the other
 // started from (its start moved on by a restart), costs +∞; the rival is taken only when its
@@ -214,7 +220,7 @@ enum class RaceOutcome { kUndecided, kKeepConfigured, kTakeRival };
 // that restarted at frame 60 of a fast car-like strip and initialised at frame 125 had been
 // taken at its lower cost, dropping 120 tracked frames: docs/performance.md, "The race
 // between starts from different frames".)
-RaceOutcome decideRace(const RaceSide& configured, const RaceSide& rival, double switch_gain);
+RaceDecision decideRace(const RaceSide& configured, const RaceSide& rival, double switch_gain);
 
 class Odometry {
  public:
