@@ -224,8 +224,23 @@ VignetteEstimate VignetteEstimator::solve() const {
   for (const Row& row : rows_) rho_max = std::max({rho_max, row.rho1, row.rho2});
   const int last = std::min(k, static_cast<int>(std::ceil(rho_max * k)));
   for (int j = last + 1; j <= k; ++j) est.knots[j] = est.knots[last];
-  est.valid = est.knots.allFinite();
-  if (!est.valid) est.reason = "the fit did not converge";
+  if (!est.knots.allFinite()) {
+    est.reason = "the fit did not converge";
+    return est;
+  }
+  // g_0 = 0: the centre's value. A rise outwards beyond the tolerance is not a lens's.
+  Eigen::Index peak = 0;
+  const double rise = std::exp(est.knots.maxCoeff(&peak)) - 1.0;
+  if (rise > o.max_outward_rise) {
+    std::ostringstream reason;
+    reason << std::fixed << std::setprecision(2) << "the fit brightens away from the centre, to "
+           << 1.0 + rise << "× its central value at ρ = " << static_cast<double>(peak) / k
+           << ", which no lens's vignette does (" << 1.0 + o.max_outward_rise
+           << "× at most is taken for noise)";
+    est.reason = reason.str();
+    return est;
+  }
+  est.valid = true;
   return est;
 }
 

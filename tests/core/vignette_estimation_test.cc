@@ -99,6 +99,26 @@ TEST(VignetteEstimation, AStillCameraMeasuresNothing) {
   EXPECT_EQ(e.at(0.75), 1.0);
 }
 
+// A field that brightens outwards is no lens's vignette (max_outward_rise): the estimator
+// measures it and refuses it. V = 1 + 0.45 (0.6 ρ² + 0.4 ρ⁴) reaches 1.23 at ρ = 0.7, within
+// the tracks' reach; the tracks measure it as they measure the fall-off above (to 0.01).
+TEST(VignetteEstimation, RefusesAFieldThatBrightensOutwards) {
+  const VignetteEstimate e = estimate(-0.45, true, 30);
+  EXPECT_FALSE(e.valid);
+  EXPECT_NE(e.reason.find("brightens away from the centre"), std::string::npos) << e.reason;
+  EXPECT_EQ(e.at(0.75), 1.0);
+}
+
+// A rise within the tolerance is kept, as the estimates measured on renders with a true
+// vignette (a hump of up to 2 % near the centre): V = 1 + 0.045 (0.6 ρ² + 0.4 ρ⁴) is 1.02 at
+// ρ = 0.7 and 1.03 at the tracks' farthest reach (0.85).
+TEST(VignetteEstimation, KeepsARiseWithinTheTolerance) {
+  const VignetteEstimate e = estimate(-0.045, true, 30);
+  ASSERT_TRUE(e.valid) << e.reason;
+  for (double rho : {0.5, 0.7})
+    EXPECT_NEAR(e.at(rho) / e.at(0.0), trueVignette(rho, -0.045), 0.01) << "rho " << rho;
+}
+
 TEST(VignetteEstimation, TooFewTracksGiveNoEstimate) {
   const VignetteEstimate e = estimate(0.45, true, 1);  // one pair: a few hundred points
   EXPECT_FALSE(e.valid);
