@@ -10,7 +10,7 @@ namespace omnidso {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kGain = 0.8;  // InitializationRaceOptions::switch_gain
+constexpr double kGain = 0.8;  // a margin a user may ask (race.switch_gain; the default is 1)
 
 TEST(DecideRace, ComparesTheCostsOfStartsFromTheSameFrame) {
   EXPECT_EQ(decideRace({0, 10.0, false}, {0, 7.9, false}, kGain).outcome, RaceOutcome::kTakeRival);
