@@ -45,10 +45,10 @@ namespace omnidso {
 // only if its window's cost RMS, √(2 E / (8 n)) over the n residual patches at the optimum, is
 // below `switch_gain` × the other's. On the same frames a wrong basin's cost was 1.4–3.2× a
 // right one's, two right ones within 0.87–1.11× of each other (docs/performance.md, "The
-// initial pair's basin through a narrow view"); but a right rival has also lost at 0.83–0.94×
-// (a start inside a fast turn under blur, car paths K1 and K12: docs/performance.md, "The
-// race's gain, measured for the next step"), and where both are right either serves: 1, the
-// lower cost wins.
+// initial pair's basin through a narrow view"); but right rivals also lost at 0.83–0.94× (a
+// start inside a fast turn under blur, car paths K1 and K12: docs/performance.md, "K12, a car
+// path the original DSO follows, and the race's gain"), and where both are right either
+// serves: 1, the lower cost wins.
 // At its snap the rival adopts the lowest-error start (`rival_snap_translation_start_gain`, the
 // initialiser's snap_translation_start_gain, 1: the lowest): the configured start's 0.95× rule
 // keeps the pre-snap path's solution unless another is clearly better, and in a fast turn
