@@ -20,6 +20,20 @@ TEST(DecideRace, ComparesTheCostsOfStartsFromTheSameFrame) {
   EXPECT_EQ(decideRace({0, kNaN, false}, {0, 1.0, false}, kGain).outcome, RaceOutcome::kUndecided);
 }
 
+// The default gain (InitializationRaceOptions::switch_gain, 1): the lower cost wins. K12 seed 1
+// (docs/performance.md, "K12, a car path the original DSO follows, and the race's gain"): the
+// rival's start was right at 0.93× the configured start's cost (8.85 against 9.48) and lost
+// to the former 0.8 (18.7 % of the path against 0.21 %). An exact tie keeps the configured.
+TEST(DecideRace, TheDefaultGainTakesTheLowerCost) {
+  const double gain = InitializationRaceOptions().switch_gain;
+  EXPECT_EQ(decideRace({0, 9.48339, false}, {0, 8.84747, false}, gain).outcome,
+            RaceOutcome::kTakeRival);
+  EXPECT_EQ(decideRace({0, 8.84747, false}, {0, 9.48339, false}, gain).outcome,
+            RaceOutcome::kKeepConfigured);
+  EXPECT_EQ(decideRace({0, 9.0, false}, {0, 9.0, false}, gain).outcome,
+            RaceOutcome::kKeepConfigured);
+}
+
 TEST(DecideRace, ASideThatLostTrackingBeforeItsCostHasLost) {
   EXPECT_EQ(decideRace({0, kNaN, true}, {0, 50.0, false}, kGain).outcome, RaceOutcome::kTakeRival);
   EXPECT_EQ(decideRace({0, 10.0, false}, {0, kNaN, true}, kGain).outcome, RaceOutcome::kKeepConfigured);
