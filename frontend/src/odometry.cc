@@ -120,12 +120,14 @@ Odometry::Odometry(const Camera& camera, OdometryOptions options, const Mask& im
                 camera.undistortedModel().modelName() + "' first");
   if (options.race.keyframes < 2 || options.race.keyframes > options.window.max_keyframes ||
       !(options.race.switch_gain > 0.0) || options.race.max_frames < 1 ||
-      !(options.race.rival_snap_translation_start_gain > 0.0))
+      !(options.race.rival_snap_translation_start_gain > 0.0) ||
+      std::isnan(options.race.same_start_deg))
     throw Error("Odometry: race.keyframes must lie in 2 … window.max_keyframes, "
-                "race.switch_gain and race.rival_snap_translation_start_gain be > 0 and "
-                "race.max_frames ≥ 1 (got " +
+                "race.switch_gain and race.rival_snap_translation_start_gain be > 0, "
+                "race.same_start_deg a number and race.max_frames ≥ 1 (got " +
                 std::to_string(options.race.keyframes) + ", " +
                 std::to_string(options.race.switch_gain) + ", " +
+                std::to_string(options.race.same_start_deg) + ", " +
                 std::to_string(options.race.rival_snap_translation_start_gain) + ", " +
                 std::to_string(options.race.max_frames) + ")");
   if (raceApplies(options))

@@ -38,14 +38,30 @@ double raceCost(const RaceSide& side, int common_start) {
 
 }  // namespace
 
-RaceDecision decideRace(const RaceSide& configured, const RaceSide& rival, double switch_gain) {
+RaceDecision decideRace(const RaceSide& configured, const RaceSide& rival, double switch_gain,
+                        double same_start_deg) {
   RaceDecision d;
   d.common_start = std::min(configured.start_frame, rival.start_frame);
   d.configured_cost = raceCost(configured, d.common_start);
   d.rival_cost = raceCost(rival, d.common_start);
-  if (!std::isnan(d.configured_cost) && !std::isnan(d.rival_cost))
-    d.outcome = d.rival_cost < switch_gain * d.configured_cost ? RaceOutcome::kTakeRival
-                                                               : RaceOutcome::kKeepConfigured;
+  if (configured.T_start_current && rival.T_start_current &&
+      configured.start_frame == rival.start_frame) {
+    const SE3d& a = *configured.T_start_current;
+    const SE3d& b = *rival.T_start_current;
+    constexpr double kDeg = 180.0 / M_PI;
+    d.rotation_apart_deg = a.rotation().angularDistance(b.rotation()) * kDeg;
+    const double na = a.translation().norm(), nb = b.translation().norm();
+    if (na > 0.0 && nb > 0.0)
+      d.direction_apart_deg =
+          std::acos(std::clamp(a.translation().dot(b.translation()) / (na * nb), -1.0, 1.0)) * kDeg;
+  }
+  if (std::isnan(d.configured_cost) || std::isnan(d.rival_cost)) return d;
+  d.outcome = d.rival_cost < switch_gain * d.configured_cost ? RaceOutcome::kTakeRival
+                                                             : RaceOutcome::kKeepConfigured;
+  // NaN angles compare false: not the same start.
+  d.same_start = same_start_deg > 0.0 && d.rotation_apart_deg <= same_start_deg &&
+                 d.direction_apart_deg <= same_start_deg;
+  if (d.same_start) d.outcome = RaceOutcome::kKeepConfigured;
   return d;
 }
 
@@ -58,12 +74,19 @@ void Odometry::settleRace() {
                      mine.race_first_frame == rival.race_first_frame &&
                      mine.race_initial_pose == rival.race_initial_pose;
   auto raceSide = [](const Impl& side) {
-    return RaceSide{side.race_first_frame >= 0 ? side.race_first_frame : side.first_frame_index,
-                    side.race_cost, side.segment > 0};
+    RaceSide s{side.race_first_frame >= 0 ? side.race_first_frame : side.first_frame_index,
+               side.race_cost, side.segment > 0};
+    // Both sides have just processed the same frame.
+    const FrameRecord& current = side.frames.back();
+    if (side.segment == 0 && side.race_first_frame >= 0 && current.tracked)
+      s.T_start_current = side.keyframePose(side.race_first_frame).inverse() *
+                          side.keyframePose(current.reference_keyframe) *
+                          current.T_frame_ref.inverse();
+    return s;
   };
   const RaceSide mine_side = raceSide(mine), rival_side = raceSide(rival);
-  const RaceDecision decision =
-      decideRace(mine_side, rival_side, mine.options.race.switch_gain);
+  const RaceDecision decision = decideRace(mine_side, rival_side, mine.options.race.switch_gain,
+                                           mine.options.race.same_start_deg);
   const bool timed_out = static_cast<int>(mine.frames.size()) >= mine.options.race.max_frames;
   if (!twins && decision.outcome == RaceOutcome::kUndecided && !timed_out) return;
   std::ostringstream m;
@@ -87,9 +110,15 @@ void Odometry::settleRace() {
     m << "window cost RMS at " << mine.options.race.keyframes << " keyframes "
       << side(mine_side, decision.configured_cost, snapParallaxDeg(mine.options.initializer))
       << " against "
-      << side(rival_side, decision.rival_cost, rival.options.initializer.snap_parallax_deg)
-      << ": "
-      << (take_rival ? "the rival's start taken" : "the configured start kept");
+      << side(rival_side, decision.rival_cost, rival.options.initializer.snap_parallax_deg);
+    if (!std::isnan(decision.rotation_apart_deg))
+      m << ", the starts " << decision.rotation_apart_deg << "° apart in rotation and "
+        << decision.direction_apart_deg << "° in the direction of travel at frame "
+        << mine.frames.back().index;
+    m << ": "
+      << (take_rival              ? "the rival's start taken"
+          : decision.same_start ? "the same start; the configured one kept"
+                                : "the configured start kept");
   }
   if (take_rival) {
     // The rival kept its retired points (it had no sink): they go where the user asked.

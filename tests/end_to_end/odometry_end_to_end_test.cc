@@ -209,7 +209,8 @@ TEST(OdometryEndToEnd, RetiredPointSinkReceivesExactlyTheRetiredPoints) {
 // The initialisation race (odometry.hpp, InitializationRaceOptions) only chooses: whichever
 // start it keeps, the run is the one that start gives alone — keyframe poses and tracked
 // frames bit for bit, and every point, retired ones through the sink included. A switch gain
-// of 1e-6 keeps the configured start, 1e6 takes the rival's; room185 (40 frames, N_f = 3, so
+// of 1e-6 keeps the configured start, 1e6 takes the rival's (the costs alone deciding:
+// race.same_start_deg 0, as two right starts agree); room185 (40 frames, N_f = 3, so
 // the faster side can have marginalised keyframes before the slower one decides) snaps at
 // its pixel criterion at 2° and waits for 5° otherwise, so the two starts differ.
 TEST(OdometryEndToEnd, InitialisationRaceRunsAsTheStartItKeeps) {
@@ -222,6 +223,7 @@ TEST(OdometryEndToEnd, InitialisationRaceRunsAsTheStartItKeeps) {
     cli::DatasetRunOptions raced;
     raced.odometry.window.max_keyframes = 3;
     raced.odometry.race.switch_gain = take_rival ? 1e6 : 1e-6;
+    raced.odometry.race.same_start_deg = 0.0;
     std::vector<OdometryPoint> streamed;
     raced.retired_point_sink = [&streamed](const OdometryPoint& p) { streamed.push_back(p); };
     const cli::DatasetRun race = cli::runOdometryOnDataset(index, raced);

@@ -4,6 +4,7 @@
 // options (raceRivalOptions) here.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <omnidso/core/error.hpp>
@@ -35,7 +36,8 @@ TEST(InitializationRaceOptions, BadSettingsAreRefusedByName) {
            [](OdometryOptions& o) { o.race.keyframes = o.window.max_keyframes + 1; },
            [](OdometryOptions& o) { o.race.switch_gain = 0.0; },
            [](OdometryOptions& o) { o.race.rival_snap_translation_start_gain = 0.0; },
-           [](OdometryOptions& o) { o.race.max_frames = 0; }}) {
+           [](OdometryOptions& o) { o.race.max_frames = 0; },
+           [](OdometryOptions& o) { o.race.same_start_deg = std::nan(""); }}) {
     const std::string message = errorOf(bad);
     EXPECT_NE(message.find("race.keyframes must lie in 2"), std::string::npos) << message;
   }

@@ -123,6 +123,7 @@ std::vector<Setting> settingsOf(OdometryOptions& o) {
       {"race.rival_snap_parallax_deg", &o.race.rival_snap_parallax_deg},
       {"race.keyframes", &o.race.keyframes},
       {"race.switch_gain", &o.race.switch_gain},
+      {"race.same_start_deg", &o.race.same_start_deg},
       {"race.max_frames", &o.race.max_frames},
       {"race.rival_snap_translation_start_gain", &o.race.rival_snap_translation_start_gain},
       {"initializer.max_rmse", &o.initializer.max_rmse},
