@@ -5,6 +5,8 @@
 #include <limits>
 #include <sstream>
 
+#include <omnidso/frontend/frame_placement.hpp>
+
 #include "odometry_impl.hpp"
 
 namespace omnidso {
@@ -80,8 +82,8 @@ void Odometry::settleRace() {
     const FrameRecord& current = side.frames.back();
     if (side.segment == 0 && side.race_first_frame >= 0 && current.tracked)
       s.T_start_current = side.keyframePose(side.race_first_frame).inverse() *
-                          side.keyframePose(current.reference_keyframe) *
-                          current.T_frame_ref.inverse();
+                          placeByReference(side.keyframePose(current.reference_keyframe),
+                                           current.T_frame_ref);
     return s;
   };
   const RaceSide mine_side = raceSide(mine), rival_side = raceSide(rival);
