@@ -1,8 +1,8 @@
 // The photometric model chosen by the data (cli::applyPhotometricMode): with every frame's
 // exposure time the window ties each keyframe's affine brightness to 0; without them the gain
 // goes free (auto-exposure is what the affine model must explain) and the offset stays tied.
-// And the window's solve chosen by the view's width (cli::applyViewProfile). The user's
-// settings still win.
+// And the window's solve and the tracking reference's depth check chosen by the view's width
+// (cli::applyViewProfile, cli::applyNarrowViewTracking). The user's settings still win.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -228,6 +228,28 @@ TEST(ViewProfile, OnlyANarrowViewWithExposureTimesChangesTheWindow) {
   EXPECT_EQ(narrow.window.intrinsics_prior_weight, defaults.window.intrinsics_prior_weight);
 }
 
+// A narrow view's tracker aligns only the reference points whose inverse distance agrees with
+// their neighbours', with or without exposure times; from 115° on every point is aligned.
+TEST(NarrowViewTracking, OnlyANarrowViewChecksTheReferenceDepths) {
+  const OdometryOptions defaults;
+  ASSERT_EQ(defaults.reference_depths.neighbours, 0);  // the library's default: every point
+  for (double width_deg : {kNarrowViewBelowDeg, 119.98, 221.0}) {
+    OdometryOptions options;
+    EXPECT_EQ(applyNarrowViewTracking(width_deg, &options), "") << width_deg;
+    EXPECT_EQ(options.reference_depths.neighbours, 0) << width_deg;
+  }
+  OdometryOptions narrow;
+  const std::string note = applyNarrowViewTracking(109.47, &narrow);
+  EXPECT_EQ(narrow.reference_depths.neighbours, 8);
+  EXPECT_EQ(narrow.reference_depths.max_log_deviation, defaults.reference_depths.max_log_deviation);
+  EXPECT_NE(note.find("109.5° across its widest, under 115°"), std::string::npos) << note;
+  EXPECT_NE(note.find("--set reference_depths.neighbours=0"), std::string::npos) << note;
+  // The window's solve is applyViewProfile's, not this one's.
+  EXPECT_EQ(narrow.window.max_iterations, defaults.window.max_iterations);
+  EXPECT_EQ(narrow.window.central_difference_gradients,
+            defaults.window.central_difference_gradients);
+}
+
 // As `omnidso run` applies it: summary.json records the view, the crop's window takes the
 // narrow view's solve, and the user's setting wins (and silences the note).
 TEST(ViewProfile, RunRecordsTheViewAndTheUsersSettingWins) {
@@ -243,6 +265,8 @@ TEST(ViewProfile, RunRecordsTheViewAndTheUsersSettingWins) {
   const auto [fisheye_view, fisheye, fisheye_log] = run("fisheye", {});
   EXPECT_FALSE(fisheye_view.at("narrow").get<bool>());
   EXPECT_FALSE(fisheye_view.at("narrow_view_window").get<bool>());
+  EXPECT_FALSE(fisheye_view.at("narrow_view_tracking").get<bool>());
+  EXPECT_EQ(fisheye.at("reference_depths.neighbours").get<int>(), 0);
   EXPECT_GT(fisheye_view.at("width_deg").get<double>(), 180.0);
   EXPECT_FALSE(fisheye.at("window.central_difference_gradients").get<bool>());
   EXPECT_EQ(fisheye.at("window.max_iterations").get<int>(), WindowOptions{}.max_iterations);
@@ -250,6 +274,10 @@ TEST(ViewProfile, RunRecordsTheViewAndTheUsersSettingWins) {
   const auto [crop_view, crop, crop_log] = run("crop", {"--camera-model", "pinhole-crop:90"});
   EXPECT_TRUE(crop_view.at("narrow").get<bool>());
   EXPECT_TRUE(crop_view.at("narrow_view_window").get<bool>());  // the render has exposure times
+  EXPECT_TRUE(crop_view.at("narrow_view_tracking").get<bool>());
+  EXPECT_EQ(crop.at("reference_depths.neighbours").get<int>(), 8);
+  EXPECT_NE(crop_log.find("reference points whose inverse distance"), std::string::npos)
+      << crop_log;
   // The 96-pixel crop's corner pixel centres, 47.5 px from the centre at f = 48.
   EXPECT_NEAR(crop_view.at("width_deg").get<double>(),
               2.0 * std::atan(std::sqrt(2.0) * 47.5 / 48.0) * 180.0 / M_PI, 0.05);
@@ -260,7 +288,14 @@ TEST(ViewProfile, RunRecordsTheViewAndTheUsersSettingWins) {
       run("set", {"--camera-model", "pinhole-crop:90", "--set", "window.max_iterations=2"});
   EXPECT_EQ(set.at("window.max_iterations").get<int>(), 2);
   EXPECT_TRUE(set.at("window.central_difference_gradients").get<bool>());
-  EXPECT_EQ(set_log.find("narrow view"), std::string::npos) << set_log;
+  EXPECT_EQ(set_log.find("the window solves"), std::string::npos) << set_log;
+  EXPECT_NE(set_log.find("reference points whose inverse distance"), std::string::npos)
+      << set_log;
+  const auto [all_view, all, all_log] = run(
+      "all", {"--camera-model", "pinhole-crop:90", "--set", "reference_depths.neighbours=0"});
+  EXPECT_EQ(all.at("reference_depths.neighbours").get<int>(), 0);
+  EXPECT_EQ(all_log.find("reference points whose inverse distance"), std::string::npos)
+      << all_log;
 }
 
 }  // namespace

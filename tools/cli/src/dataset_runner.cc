@@ -262,4 +262,18 @@ std::string applyViewProfile(double view_width_deg, bool exposure_times_known,
   return note.str();
 }
 
+std::string applyNarrowViewTracking(double view_width_deg, OdometryOptions* options) {
+  if (view_width_deg >= kNarrowViewBelowDeg) return "";
+  constexpr int kNeighbours = 8;  // with τ's default 0.1 (reference_depth_consistency.hpp)
+  options->reference_depths.neighbours = kNeighbours;
+  std::ostringstream note;
+  note << "a narrow view (" << std::fixed << std::setprecision(1) << view_width_deg
+       << "° across its widest, under " << std::setprecision(0) << kNarrowViewBelowDeg
+       << "°): the tracker aligns only the reference points whose inverse distance agrees with "
+          "their "
+       << kNeighbours << " nearest neighbours' (--set reference_depths.neighbours="
+       << ReferenceDepthConsistencyOptions{}.neighbours << " aligns every point)";
+  return note.str();
+}
+
 }  // namespace omnidso::cli

@@ -106,6 +106,8 @@ void runOdometry(const RunArguments& args) {
   const std::string view_note =
       applyViewProfile(view_width_deg, exposureTimesKnown(index), &o);  // likewise
   const WindowOptions profile_window = o.window;
+  const std::string tracking_note = applyNarrowViewTracking(view_width_deg, &o);  // likewise
+  const int profile_reference_neighbours = o.reference_depths.neighbours;
   if (!args.config.empty()) applyOdometryConfigFile(o, args.config);
   for (const std::string& s : args.settings) applyOdometrySettingAssignment(o, s);
   refuseToOverwrite(args.out, args.force);  // after every option has been checked
@@ -130,6 +132,8 @@ void runOdometry(const RunArguments& args) {
       o.window.central_difference_gradients == profile_window.central_difference_gradients &&
       o.window.max_iterations == profile_window.max_iterations)
     std::cerr << "note: " << view_note << "\n";
+  if (!tracking_note.empty() && o.reference_depths.neighbours == profile_reference_neighbours)
+    std::cerr << "note: " << tracking_note << "\n";
   if (run.vignette_estimate) {
     std::cerr << "note: " << vignetteEstimateNote(*run.vignette_estimate) << "\n";
     if (run.vignette_estimate->valid)
@@ -155,7 +159,8 @@ void runOdometry(const RunArguments& args) {
   description.settings = odometrySettingsJson(o);
   description.view = {{"width_deg", view_width_deg},
                       {"narrow", view_width_deg < kNarrowViewBelowDeg},
-                      {"narrow_view_window", !view_note.empty()}};
+                      {"narrow_view_window", !view_note.empty()},
+                      {"narrow_view_tracking", !tracking_note.empty()}};
   if (run.vignette_estimate) description.vignette_estimate = vignetteEstimateJson(*run.vignette_estimate);
   const nlohmann::json summary =
       writeRunOutputs(out.path(), index, ground_truth, odometry, description, points);

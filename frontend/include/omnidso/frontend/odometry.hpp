@@ -123,7 +123,8 @@ struct OdometryOptions {
   WindowOptions window;
   CoarseTrackerOptions tracker;
   // With neighbours > 0 the tracking reference keeps only the points whose inverse distance
-  // agrees with their image neighbours' (reference_depth_consistency.hpp; off by default).
+  // agrees with their image neighbours' (reference_depth_consistency.hpp; off by default,
+  // `omnidso run` turns it on for narrow views: cli::applyNarrowViewTracking).
   ReferenceDepthConsistencyOptions reference_depths;
   EpipolarSearchOptions epipolar;        // max_search_px 0 → 0.027 (w + h)
   KeyframeDecisionOptions keyframe_decision;

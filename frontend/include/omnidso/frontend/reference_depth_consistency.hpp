@@ -24,13 +24,16 @@
 // of H12p's reference points, 64 % of them more than 10 % off the scene, and H12p's median
 // falls to 0.066 %.
 //
-// Off by default (K = 0): on the development set's 90° crops it made three sequences of four
-// worse (mean of five-seed medians 0.077 → 0.087 %; D1's crop in four seeds of five), the full
-// image's within its seeds' spread (0.0189 → 0.0200 %). Judging a point only where its
+// Off by default here (K = 0); `omnidso run` turns it on for views under 115°
+// (cli::applyNarrowViewTracking), where it keeps a fast turn's scale (docs/performance.md, "A
+// narrow view's tracking reference checked against its neighbours"). On the development set's
+// 90° crops it costs (mean of medians 0.077 → 0.087 % over five seeds when first measured,
+// D1's crop in four seeds of five; 0.078 → 0.098 % over three in session 50); the full
+// image's moved within its seeds' spread (0.0189 → 0.0200 %). Judging a point only where its
 // neighbours agree among themselves (so that depth edges keep their points) helped H12p less
 // (0.082 %) and D1's crop no better; D1's crop gains nothing even from the scene's own inverse
-// distances (its drift is made in the window's solves). Settings `reference_depths.neighbours` (K) and
-// `reference_depths.max_log_deviation` (τ), for ablations on narrow views.
+// distances (its drift is made in the window's solves). Settings `reference_depths.neighbours` (K)
+// and `reference_depths.max_log_deviation` (τ).
 
 #include <omnidso/frontend/coarse_tracker.hpp>
 #include <vector>

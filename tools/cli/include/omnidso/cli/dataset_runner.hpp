@@ -145,4 +145,22 @@ constexpr double kNarrowViewBelowDeg = 115.0;
 std::string applyViewProfile(double view_width_deg, bool exposure_times_known,
                              OdometryOptions* options);
 
+// The tracking reference's depth check chosen by the view (reference_depth_consistency.hpp):
+// on a narrow view the tracker aligns only the reference points whose inverse distance agrees
+// with their 8 nearest neighbours' (`reference_depths.neighbours`). A narrow view tells a
+// sideways step from a turn only by parallax, so a wrong inverse distance turns part of the
+// step into rotation; in a fast turn, where nearly every frame is a keyframe and the newest
+// points have had the least baseline, that compounds into a scale collapse. Measured side by
+// side (docs/performance.md, "A narrow view's tracking reference checked against its
+// neighbours"): a 448-pixel fisheye's 90° crop turning 7–9° per frame at 15 Hz fell to a
+// quarter of its scale (5.4 / 6.5 % of the path; the original DSO on the same crop 3.6–3.9 %)
+// and holds it with the check (0.43 / 0.27 %). It is a trade: it takes the worst narrow runs
+// down (two pinhole MAV renders 0.31 → 0.08 % and 0.40 → 0.06 %, a car path 0.22 → 0.12 %)
+// and costs the typical ones a little — the development set's crops most (mean of medians
+// 0.078 → 0.098 %); 99 runs of the other narrow sets 0.86× in the geometric mean. With or
+// without exposure times. A wide view keeps every point: it tells the two apart by the flow's
+// direction, and there the check moved runs only within their seeds' spread. Call before the
+// user's settings, which override it. Returns a note when it changed the options, else "".
+std::string applyNarrowViewTracking(double view_width_deg, OdometryOptions* options);
+
 }  // namespace omnidso::cli

@@ -39,8 +39,9 @@ struct RunDescription {
   double wall_s = 0.0;
   nlohmann::json settings = nlohmann::json::object();  // every odometry setting (odometry_settings.hpp)
   nlohmann::json vignette_estimate = nullptr;  // dataset_vignette.hpp; null when none was tried
-  // The view's width (dataset_runner.hpp, viewWidthDeg) and whether it is narrow
-  // (applyViewProfile); null when not measured.
+  // The view's width (dataset_runner.hpp, viewWidthDeg), whether it is narrow, and whether
+  // the narrow view's window (applyViewProfile) and tracking reference
+  // (applyNarrowViewTracking) were applied; null when not measured.
   nlohmann::json view = nullptr;
 };
 
