@@ -250,8 +250,9 @@ TEST(NarrowViewTracking, OnlyANarrowViewChecksTheReferenceDepths) {
             defaults.window.central_difference_gradients);
 }
 
-// As `omnidso run` applies it: summary.json records the view, the crop's window takes the
-// narrow view's solve, and the user's setting wins (and silences the note).
+// As `omnidso run` applies them: summary.json records the view, the crop's window takes the
+// narrow view's solve and its tracker the reference check, and the user's setting wins (and
+// silences its note).
 TEST(ViewProfile, RunRecordsTheViewAndTheUsersSettingWins) {
   test::TempDir tmp("view_profile_run");
   const fs::path data = tmp.path() / "data";
