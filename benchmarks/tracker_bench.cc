@@ -7,11 +7,14 @@
 //  - all_hypotheses: no previous error, so all 31 hypotheses are tried (each stopped after
 //    the coarsest level when its error is far above the best): a tracker that is lost.
 // The reference is set outside the timed region.
+// And the narrow view's check of that reference (reference_depth_consistency.hpp, K = 8,
+// τ 0.1), which `omnidso run` applies once per keyframe on views under 115°.
 #include <benchmark/benchmark.h>
 
 #include <limits>
 #include <omnidso/frontend/coarse_tracker.hpp>
 #include <omnidso/frontend/pixel_selector.hpp>
+#include <omnidso/frontend/reference_depth_consistency.hpp>
 
 #include "benchmark_room.hpp"
 
@@ -80,6 +83,22 @@ BENCHMARK_CAPTURE(BM_Track, predicted_Ceres, false, true)->Unit(benchmark::kMill
 BENCHMARK_CAPTURE(BM_Track, predicted_Native, true, true)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Track, all_hypotheses_Ceres, false, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Track, all_hypotheses_Native, true, false)->Unit(benchmark::kMillisecond);
+
+void BM_KeepConsistentDepths(benchmark::State& state) {
+  const TrackerFixture& f = fixture();
+  ReferenceDepthConsistencyOptions options;
+  options.neighbours = 8;
+  size_t kept = 0;
+  for (auto _ : state) {
+    std::vector<TrackingReferencePoint> points = f.points;  // the copy the odometry hands over
+    kept = keepConsistentDepths(std::move(points), options).size();
+    benchmark::DoNotOptimize(kept);
+  }
+  state.counters["points"] = static_cast<double>(f.points.size());
+  state.counters["kept"] = static_cast<double>(kept);
+}
+
+BENCHMARK(BM_KeepConsistentDepths)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace omnidso

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <omnidso/core/error.hpp>
 #include <string>
 #include <utility>
@@ -21,10 +22,11 @@ class PixelGrid {
       min_ = min_.cwiseMin(p.pixel);
       max_ = max_.cwiseMax(p.pixel);
     }
-    // About K points per cell: the K nearest then usually lie within one ring.
+    // About K/4 points per cell over the points' bounding box: the K nearest then usually lie
+    // within two rings, and the rings gather few more candidates than K.
     const Eigen::Vector2d extent = (max_ - min_).cwiseMax(1.0);
-    cell_ = std::max(1.0, std::sqrt(extent.x() * extent.y() * neighbours /
-                                    static_cast<double>(points.size())));
+    cell_ = std::max(1.0, 0.5 * std::sqrt(extent.x() * extent.y() * neighbours /
+                                          static_cast<double>(points.size())));
     cols_ = static_cast<int>(extent.x() / cell_) + 1;
     rows_ = static_cast<int>(extent.y() / cell_) + 1;
     buckets_.resize(static_cast<size_t>(cols_) * rows_);
@@ -58,19 +60,34 @@ class PixelGrid {
             if (j != i) out->push_back({(points[j].pixel - x).squaredNorm(), j});
         }
       }
-      // A point in ring + 1 or beyond differs by more than ring cells along one axis, so it
-      // lies at least ring · cell away.
+      // A point outside the rings searched lies beyond one of the block's sides that the grid
+      // continues past, so at least as far as the nearest such side.
       if (static_cast<int>(out->size()) >= k) {
         std::nth_element(out->begin(), out->begin() + (k - 1), out->end());
         const double kth = (*out)[k - 1].first;
-        if (kth <= (ring * cell_) * (ring * cell_)) break;
+        const double outside = distanceOutside(x, c0, r0, ring);
+        if (kth < outside * outside) break;
       }
     }
-    std::sort(out->begin(), out->end());
-    if (static_cast<int>(out->size()) > k) out->resize(k);
+    // The k nearest, ordered (the rings gather more candidates than k; only k are ordered).
+    const auto kth_end =
+        out->begin() + std::min<std::ptrdiff_t>(k, static_cast<std::ptrdiff_t>(out->size()));
+    std::partial_sort(out->begin(), kth_end, out->end());
+    out->erase(kth_end, out->end());
   }
 
  private:
+  // The distance from x to the nearest side of the block of cells within `ring` of (c0, r0)
+  // beyond which the grid has cells; +∞ when the block covers the grid.
+  double distanceOutside(const Eigen::Vector2d& x, int c0, int r0, int ring) const {
+    double d = std::numeric_limits<double>::infinity();
+    if (c0 - ring > 0) d = std::min(d, x.x() - (min_.x() + (c0 - ring) * cell_));
+    if (c0 + ring < cols_ - 1) d = std::min(d, min_.x() + (c0 + ring + 1) * cell_ - x.x());
+    if (r0 - ring > 0) d = std::min(d, x.y() - (min_.y() + (r0 - ring) * cell_));
+    if (r0 + ring < rows_ - 1) d = std::min(d, min_.y() + (r0 + ring + 1) * cell_ - x.y());
+    return d;
+  }
+
   Eigen::Vector2d min_, max_;
   double cell_ = 1.0;
   int cols_ = 1, rows_ = 1;
