@@ -155,8 +155,8 @@ std::string applyViewProfile(double view_width_deg, bool exposure_times_known,
 // neighbours"): a 448-pixel fisheye's 90° crop turning 7–9° per frame at 15 Hz fell to a
 // quarter of its scale (5.4 / 6.5 % of the path; the original DSO on the same crop 3.6–3.9 %)
 // and holds it with the check (0.43 / 0.27 %). It is a trade: it takes the worst narrow runs
-// down (two pinhole MAV renders 0.31 → 0.08 % and 0.40 → 0.06 %, a car path 0.22 → 0.12 %)
-// and costs the typical ones a little — the development set's crops most (mean of medians
+// down (two hand-held pinhole renders 0.31 → 0.08 % and 0.40 → 0.06 %, a car path 0.22 →
+// 0.12 %) and costs the typical ones a little — the development set's crops most (mean of medians
 // 0.078 → 0.098 %); 99 runs of the other narrow sets 0.86× in the geometric mean. With or
 // without exposure times. A wide view keeps every point: it tells the two apart by the flow's
 // direction, and there the check moved runs only within their seeds' spread. Call before the
