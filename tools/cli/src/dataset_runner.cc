@@ -245,6 +245,18 @@ std::string applyIntrinsicsPrior(double width, OdometryOptions* options) {
   return note.str();
 }
 
+namespace {
+
+// How the narrow view's notes begin: "a narrow view (109.5° across its widest, under 115°)".
+std::string narrowViewLead(double view_width_deg) {
+  std::ostringstream lead;
+  lead << "a narrow view (" << std::fixed << std::setprecision(1) << view_width_deg
+       << "° across its widest, under " << std::setprecision(0) << kNarrowViewBelowDeg << "°)";
+  return lead.str();
+}
+
+}  // namespace
+
 std::string applyViewProfile(double view_width_deg, bool exposure_times_known,
                              OdometryOptions* options) {
   if (view_width_deg >= kNarrowViewBelowDeg || !exposure_times_known) return "";
@@ -252,9 +264,8 @@ std::string applyViewProfile(double view_width_deg, bool exposure_times_known,
   options->window.central_difference_gradients = true;
   options->window.max_iterations = 3;
   std::ostringstream note;
-  note << "a narrow view (" << std::fixed << std::setprecision(1) << view_width_deg
-       << "° across its widest, under " << std::setprecision(0) << kNarrowViewBelowDeg
-       << "°) with exposure times: the window solves on central-difference image gradients with "
+  note << narrowViewLead(view_width_deg)
+       << " with exposure times: the window solves on central-difference image gradients with "
        << options->window.max_iterations
        << " iterations, as DSO (--set window.central_difference_gradients="
        << (wide.central_difference_gradients ? "true" : "false")
@@ -267,9 +278,8 @@ std::string applyNarrowViewTracking(double view_width_deg, OdometryOptions* opti
   constexpr int kNeighbours = 8;  // with τ's default 0.1 (reference_depth_consistency.hpp)
   options->reference_depths.neighbours = kNeighbours;
   std::ostringstream note;
-  note << "a narrow view (" << std::fixed << std::setprecision(1) << view_width_deg
-       << "° across its widest, under " << std::setprecision(0) << kNarrowViewBelowDeg
-       << "°): the tracker aligns only the reference points whose inverse distance agrees with "
+  note << narrowViewLead(view_width_deg)
+       << ": the tracker aligns only the reference points whose inverse distance agrees with "
           "their "
        << kNeighbours << " nearest neighbours' (--set reference_depths.neighbours="
        << ReferenceDepthConsistencyOptions{}.neighbours << " aligns every point)";
