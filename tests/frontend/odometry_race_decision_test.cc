@@ -40,7 +40,8 @@ TEST(DecideRace, TheDefaultGainTakesTheLowerCost) {
 // forward step of 0.3 (the configured side's at rotation_deg = direction_deg = 0).
 SE3d poseApart(double rotation_deg, double direction_deg) {
   const double kRad = M_PI / 180.0;
-  const Eigen::Quaterniond q(Eigen::AngleAxisd(0.02 + rotation_deg * kRad, Eigen::Vector3d::UnitY()));
+  const Eigen::Quaterniond q(
+      Eigen::AngleAxisd(0.02 + rotation_deg * kRad, Eigen::Vector3d::UnitY()));
   return SE3d(q, Eigen::AngleAxisd(direction_deg * kRad, Eigen::Vector3d::UnitX()) *
                      Eigen::Vector3d(0.0, 0.0, 0.3));
 }
